@@ -1,0 +1,56 @@
+// Jacobi elliptic functions sn, cn, dn of real argument, parameter m = k^2 in [0, 1].
+//
+// Two evaluation paths, both accurate to a few ulp in absolute terms (what the free rotor needs:
+// its momentum components are amplitude * function):
+//  - |u| <= kJacobiSeriesMax: the Maclaurin series in u with coefficients polynomial in m
+//    (Abramowitz & Stegun 16.22.1-3, extended to u^13 / u^14 and checked by
+//    tests/physics/elliptic_test.cpp against the ODE sn' = cn dn, cn' = -sn dn, dn' = -m sn cn);
+//  - otherwise the descending Landen transformation / arithmetic-geometric mean
+//    (DLMF 22.20.ii, eqs. 22.20.4-22.20.5), valid for every real u.
+#pragma once
+
+namespace rigid::physics {
+
+struct Jacobi {
+  double sn = 0.0;
+  double cn = 1.0;
+  double dn = 1.0;
+};
+
+inline constexpr double kJacobiSeriesMax = 1.0 / 16.0;
+
+// The series coefficients for one m, so that several arguments with the same m (the nodes of one
+// free-rotor step) pay for the polynomials in m once.
+class JacobiSeries {
+ public:
+  explicit JacobiSeries(double m);
+  // Valid for |u| <= kJacobiSeriesMax; truncation error < 1e-20.
+  Jacobi operator()(double u) const;
+
+ private:
+  double s_[7];  // sn: coefficient of u^(2i+1)
+  double c_[8];  // cn: coefficient of u^(2i)
+  double d_[8];  // dn: coefficient of u^(2i)
+};
+
+// sn, cn, dn(u | m) for any real u and m in [0, 1].
+Jacobi jacobi(double u, double m);
+// The same with the complementary parameter mc = k'^2 = 1 - m given separately: near m = 1 the
+// functions at large u depend on k' to first order, and 1 - m rounded from m would lose it
+// (m = 1 - 2.5e-7 carries k'^2 to only 9 digits). Pass mc when it is known more accurately.
+Jacobi jacobi(double u, double m, double mc);
+
+// Complete elliptic integral of the first kind K(m) (DLMF 19.8.5, by the AGM). +inf at m = 1.
+double elliptic_k(double m);
+
+// Carlson's symmetric integral R_F(x, y, z) (DLMF 19.16.1) by duplication (DLMF 19.36.i), for
+// x, y, z >= 0 with at most one of them zero.
+double carlson_rf(double x, double y, double z);
+
+// The incomplete integral of the first kind F(phi | m) for any real phi (DLMF 19.2.4), with the
+// complement mc = 1 - m given separately (see jacobi): the inverse of the amplitude, so that
+// sn(F(phi | m) | m) = sin(phi). Uses F = sin(phi) R_F(cos^2 phi, mc + m cos^2 phi, 1) (DLMF
+// 19.25.5) and F(phi + n pi) = F(phi) + 2 n K.
+double elliptic_f(double phi, double m, double mc);
+
+}  // namespace rigid::physics

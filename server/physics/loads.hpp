@@ -1,0 +1,72 @@
+// The loads on one body, kept in the frames in which they are constant during a step, so that an
+// integrator can re-evaluate them cheaply at every stage with that stage's orientation.
+//
+// For a body with orientation R = R_WP:
+//   force   F_W = f_W + R f_P
+//   torque  tau_P = tau_P + R^T tau_W + sum_i r_i x (R^T f_i)          (r_i in P, f_i in W)
+// The last sum, the torque of world-frame forces at body points, is (R r_i) x f_i = tau_W of the
+// course notes, rotated into P. It is kept as one matrix fr = sum_i f_i r_i^T, so that any number
+// of such forces costs one 3x3 product: with N = R^T fr, (r x g)_x = N(2,1) - N(1,2), etc.
+#pragma once
+
+#include <cstdint>
+
+#include "physics/math.hpp"
+
+namespace rigid::physics::detail {
+
+struct Loads {
+  enum : std::uint32_t {
+    kBodyForce = 1u << 0,    // f_P != 0
+    kBodyTorque = 1u << 1,   // tau_P != 0
+    kWorldTorque = 1u << 2,  // tau_W != 0
+    kLever = 1u << 3,        // fr != 0
+  };
+  Vec3 f_W = Vec3::Zero();
+  Vec3 f_P = Vec3::Zero();
+  Vec3 tau_P = Vec3::Zero();
+  Vec3 tau_W = Vec3::Zero();
+  Mat3 fr = Mat3::Zero();
+  std::uint32_t flags = 0;
+
+  bool torque_free() const { return (flags & (kBodyTorque | kWorldTorque | kLever)) == 0; }
+  bool orientation_free_force() const { return (flags & kBodyForce) == 0; }
+
+  void add_force(const Vec3& f, const Vec3& r_P, bool body_frame) {
+    if (body_frame) {
+      f_P += f;
+      tau_P += r_P.cross(f);
+    } else {
+      f_W += f;
+      fr += f * r_P.transpose();
+    }
+    refresh_flags();
+  }
+  void add_torque(const Vec3& t, bool body_frame) {
+    (body_frame ? tau_P : tau_W) += t;
+    refresh_flags();
+  }
+  void refresh_flags() {
+    flags = (f_P.isZero(0) ? 0u : kBodyForce) | (tau_P.isZero(0) ? 0u : kBodyTorque) |
+            (tau_W.isZero(0) ? 0u : kWorldTorque) | (fr.isZero(0) ? 0u : kLever);
+  }
+
+  // Force in W at orientation q = q_WP.
+  Vec3 force_W(const Quat& q) const {
+    Vec3 f = f_W;
+    if (flags & kBodyForce) f += q * f_P;
+    return f;
+  }
+  // Torque in P at orientation q = q_WP.
+  Vec3 torque_P(const Quat& q) const {
+    Vec3 t = tau_P;
+    if (flags & kWorldTorque) t += q.conjugate() * tau_W;
+    if (flags & kLever) {
+      const Mat3 n = q.conjugate().toRotationMatrix() * fr;
+      t += Vec3(n(2, 1) - n(1, 2), n(0, 2) - n(2, 0), n(1, 0) - n(0, 1));
+    }
+    return t;
+  }
+};
+
+}  // namespace rigid::physics::detail

@@ -1,0 +1,67 @@
+// Small fixed-size math on top of Eigen: the types the physics uses, and the quaternion helpers
+// the integrators share. Quaternions are Hamilton, stored (w, x, y, z) in our APIs; q maps vectors
+// from the body frame to the world frame: v_W = q * v_B * conj(q).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace rigid::physics {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+// sin(x)/x and (1 - cos x)/x^2 style helpers need a series near zero; below this angle the
+// truncated series is exact to round-off (next term < 1e-20 relative).
+inline constexpr double kSmallAngle = 1.0 / 16.0;
+
+// cos(t) and sin(t)/t for the half angle of a rotation vector: accurate for all t, and free of
+// libm calls when |t| is small, which is the common case inside a time step.
+inline void cos_sinc(double t, double& c, double& sinc) {
+  const double t2 = t * t;
+  if (std::abs(t) < kSmallAngle) {
+    // Taylor series to t^12; truncation error < t^14/14! < 1e-27 for |t| < 1/16.
+    c = 1.0 + t2 * (-1.0 / 2 +
+                    t2 * (1.0 / 24 +
+                          t2 * (-1.0 / 720 + t2 * (1.0 / 40320 + t2 * (-1.0 / 3628800 +
+                                                                       t2 * (1.0 / 479001600))))));
+    sinc = 1.0 +
+           t2 * (-1.0 / 6 +
+                 t2 * (1.0 / 120 + t2 * (-1.0 / 5040 +
+                                         t2 * (1.0 / 362880 + t2 * (-1.0 / 39916800 +
+                                                                    t2 * (1.0 / 6227020800.0))))));
+  } else {
+    c = std::cos(t);
+    sinc = std::sin(t) / t;
+  }
+}
+
+// The unit quaternion of the rotation vector phi (angle |phi| about phi/|phi|): exp(phi/2).
+inline Quat quat_exp(const Vec3& phi) {
+  double c, sinc;
+  cos_sinc(0.5 * phi.norm(), c, sinc);
+  const Vec3 v = (0.5 * sinc) * phi;
+  return Quat(c, v.x(), v.y(), v.z());
+}
+
+// Pulls |q| back to 1. One Newton step on |q|^2 = 1: exact to round-off when |q| is within
+// ~1e-8 of 1 (the integrators' case), and falls back to a full normalisation otherwise.
+inline void renormalize(Quat& q) {
+  const double n2 = q.squaredNorm();
+  const double e = n2 - 1.0;
+  if (std::abs(e) < 1e-8) {
+    q.coeffs() *= 1.5 - 0.5 * n2;
+  } else {
+    q.coeffs() /= std::sqrt(n2);
+  }
+}
+
+inline Mat3 skew(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+}  // namespace rigid::physics

@@ -1,0 +1,128 @@
+// The compiled world, internal to the physics library: bodies grouped by the cheapest exact model
+// for them, each group in contiguous arrays so that an integrator's loop over a group has no
+// per-body branch on the kind of body (Box2D v3's solver sets, MuJoCo's model/data split).
+//
+// Every body's state is kept about its centre of mass in its principal frame P:
+//   Motion::q = q_WP, Motion::x = p_WBo, Motion::v = v_WBo (in W), Motion::w = w_WP expressed in P.
+// Storing w in P makes the gyroscopic term w x Iw diagonal-cheap, and is the frame the exact
+// rotor works in; the world-frame w of the course notes is formed where a scheme needs it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "physics/free_rotor.hpp"
+#include "physics/loads.hpp"
+#include "physics/translation.hpp"
+
+namespace rigid::physics::detail {
+
+struct Motion {
+  Quat q = Quat::Identity();
+  Vec3 x = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+};
+
+struct Linear {
+  Vec3 g = Vec3::Zero();      // gravity, zero on frozen axes and when the body ignores it
+  Vec3 inv_m = Vec3::Zero();  // 1/m, zero on frozen axes and for kinematic bodies
+  double gamma = 0.0;         // linear drag rate c / m (1/s)
+  int drag = 0;               // row of TransTable for this gamma (row 0: gamma = 0)
+
+  Vec3 accel(const Vec3& f_W) const { return g + inv_m.cwiseProduct(f_W); }
+};
+
+// Step sizes for which translation coefficients are tabulated (composition stages included).
+enum TransSize : int { kFull, kHalf, kStage0, kStage1, kNumSizes };
+
+// Translation coefficients per distinct drag rate, so that stepping needs no exp().
+struct TransTable {
+  std::vector<double> gamma;
+  std::vector<std::array<TransCoef, kNumSizes>> coef;
+};
+
+// Rotational parameters. An isotropic body needs no gyroscopic term; the same group holds the
+// bodies whose rotation is frozen to a hinge about one world axis (that axis is fixed in P too,
+// and the constraint absorbs every other torque), and kinematic bodies (inv_I = 0).
+struct IsoRot {
+  double inv_I = 0.0;         // 1 / I (about the hinge axis for a hinge)
+  double k = 0.0;             // angular drag coefficient (N m s)
+  Vec3 axis = Vec3::UnitZ();  // hinge axis in P
+  double hinge = 0.0;         // 1 for a hinge, 0 for a free isotropic body
+
+  // I^-1 tau, projected onto the hinge axis for a hinge (branch-free).
+  Vec3 alpha(const Vec3& tau) const { return inv_I * (tau - hinge * (tau - axis * axis.dot(tau))); }
+  // Decay rates of w under angular drag, per P axis (alpha(-k w) = -rates . w).
+  Vec3 drag_rates() const { return Vec3::Constant(k * inv_I); }
+};
+
+// Principal moments in P (axisymmetric: (A, A, C), symmetry axis z; general: ascending).
+struct DiagRot {
+  Vec3 I = Vec3::Ones();
+  Vec3 inv_I = Vec3::Ones();
+  double k = 0.0;
+
+  Vec3 alpha(const Vec3& tau) const { return inv_I.cwiseProduct(tau); }
+  // w x I w
+  Vec3 gyro(const Vec3& w) const { return w.cross(I.cwiseProduct(w)); }
+  Vec3 drag_rates() const { return k * inv_I; }
+};
+
+// The bodies of one model, structure of arrays over bodies.
+struct Group {
+  std::vector<int> id;  // body id of each entry
+  std::vector<Motion> motion;
+  std::vector<Linear> linear;
+  std::vector<Loads> loads;  // spec loads + applied loads, in P
+  int size() const { return static_cast<int>(id.size()); }
+};
+
+struct PointGroup : Group {};
+
+struct IsoGroup : Group {
+  std::vector<IsoRot> rot;
+  // Exact-rotation cache: exp(h w) for the current w, valid while no torque or impulse changes w.
+  std::vector<Quat> dq;
+  std::vector<std::uint8_t> dq_ok;
+};
+
+struct AxiGroup : Group {
+  std::vector<DiagRot> rot;
+  std::vector<AxisymPlan> plan;
+  std::vector<std::uint8_t> plan_ok;
+};
+
+struct GenGroup : Group {
+  std::vector<DiagRot> rot;
+  std::vector<RotorInertia> rotor;
+  std::vector<RotorPlan> plan;
+  std::vector<std::uint8_t> plan_ok;
+};
+
+// A composition of a symmetric second-order step into a fourth-order one: stage sizes c_i h.
+// Suzuki's fractal (Suzuki, Phys. Lett. A 146, 1990): p = 1 / (4 - 4^(1/3)), stages
+// (p, p, 1 - 4p, p, p); all five are symmetric about the middle, so the result stays symmetric.
+struct Composition {
+  static constexpr int kStages = 5;
+  static constexpr double kP = 0.41449077179437573714;
+  static constexpr double kStage[kStages] = {kP, kP, 1.0 - 4.0 * kP, kP, kP};
+  static constexpr TransSize kSize[kStages] = {kStage0, kStage0, kStage1, kStage0, kStage0};
+};
+
+struct Model {
+  double dt = 1e-3;
+  PointGroup point;
+  IsoGroup iso;
+  AxiGroup axi;
+  GenGroup gen;
+  TransTable trans;
+
+  const TransCoef& tc(const Linear& l, TransSize s) const { return trans.coef[l.drag][s]; }
+};
+
+// Fills the translation table for the model's dt.
+void build_trans_table(Model& m);
+
+}  // namespace rigid::physics::detail

@@ -1,0 +1,607 @@
+#include "physics/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+#include "physics/inertia.hpp"
+#include "physics/kernels.hpp"
+#include "physics/model.hpp"
+
+namespace rigid::physics {
+
+using detail::AxiGroup;
+using detail::DiagRot;
+using detail::GenGroup;
+using detail::Group;
+using detail::IsoGroup;
+using detail::IsoRot;
+using detail::Linear;
+using detail::Loads;
+using detail::Model;
+using detail::Motion;
+
+std::string_view to_string(BodyModel m) {
+  switch (m) {
+    case BodyModel::kPoint:
+      return "point";
+    case BodyModel::kIsotropic:
+      return "isotropic";
+    case BodyModel::kAxisymmetric:
+      return "axisymmetric";
+    case BodyModel::kGeneral:
+      return "general";
+  }
+  return "?";
+}
+
+namespace {
+
+// Principal moments closer than this (relative to the largest) are treated as equal, so that a
+// tensor given with round-off noise still compiles to the cheaper exact model.
+constexpr double kEqualMoments = 1e-12;
+
+struct Slot {
+  BodyModel model = BodyModel::kPoint;
+  int index = 0;
+};
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+std::string fmt(const Vec3& v) {
+  return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + ")";
+}
+
+bool finite(const Vec3& v) {
+  return v.allFinite();
+}
+
+}  // namespace
+
+namespace detail {
+
+void build_trans_table(Model& m) {
+  for (std::size_t r = 0; r < m.trans.gamma.size(); ++r) {
+    const double g = m.trans.gamma[r];
+    auto& row = m.trans.coef[r];
+    row[kFull] = trans_coef(g, m.dt);
+    row[kHalf] = trans_coef(g, 0.5 * m.dt);
+    row[kStage0] = trans_coef(g, Composition::kStage[0] * m.dt);
+    row[kStage1] = trans_coef(g, Composition::kStage[2] * m.dt);
+  }
+}
+
+}  // namespace detail
+
+struct World::Impl {
+  WorldSpec spec;  // validated; orientations normalised
+  const IntegratorInfo* integrator = nullptr;
+  std::int64_t steps = 0;
+  Model model;
+  std::vector<Slot> slot;         // by body id
+  std::vector<Vec3> moments;      // principal moments by id (P frame of the model)
+  std::vector<Quat> q_BP;         // by id
+  std::vector<Loads> base_loads;  // the spec's loads by id, in P
+  std::vector<Vec3> pending_J;    // impulses waiting for the next step, by id (W)
+  std::vector<Vec3> pending_L;    // their angular momentum about the centre of mass (W)
+  std::vector<int> pending;       // ids with a pending impulse (capacity reserved: no allocation)
+  std::unordered_map<std::string, int> by_name;
+
+  void compile();
+  Group& group(BodyModel m) {
+    switch (m) {
+      case BodyModel::kPoint:
+        return model.point;
+      case BodyModel::kIsotropic:
+        return model.iso;
+      case BodyModel::kAxisymmetric:
+        return model.axi;
+      case BodyModel::kGeneral:
+        break;
+    }
+    return model.gen;
+  }
+  const Group& group(BodyModel m) const { return const_cast<Impl*>(this)->group(m); }
+  Motion& motion(int id) { return group(slot[id].model).motion[slot[id].index]; }
+  const Motion& motion(int id) const { return group(slot[id].model).motion[slot[id].index]; }
+  Loads& loads(int id) { return group(slot[id].model).loads[slot[id].index]; }
+  const Linear& linear(int id) const { return group(slot[id].model).linear[slot[id].index]; }
+  void invalidate_cache(int id);
+  void set_state(int id, const BodyState& s);
+  void apply_pending_impulses();
+  Vec3 angular_momentum_P(int id) const;
+  void check_id(int id) const;
+};
+
+namespace {
+
+void validate_body(const BodySpec& b, int i) {
+  const auto fail = [&](const std::string& field, const std::string& what) {
+    throw SpecError(i, field, "body '" + b.name + "': " + field + " " + what);
+  };
+  if (b.name.empty()) throw SpecError(i, "name", "body #" + std::to_string(i) + ": empty name");
+  if (!b.kinematic && !(std::isfinite(b.mass) && b.mass > 0.0)) {
+    fail("mass", "must be finite and > 0, got " + fmt(b.mass));
+  }
+  if (b.has_inertia) {
+    const std::string why = inertia_problem(b.I_B);
+    if (!why.empty()) fail("inertia", why);
+  }
+  const Eigen::Vector4d q = b.q_WB.coeffs();
+  if (!q.allFinite() || q.norm() < 1e-6) {
+    fail("orientation", "cannot be normalised: (w, x, y, z) = (" + fmt(b.q_WB.w()) + ", " +
+                            fmt(b.q_WB.x()) + ", " + fmt(b.q_WB.y()) + ", " + fmt(b.q_WB.z()) +
+                            ")");
+  }
+  if (!finite(b.p_WBo)) fail("position", "must be finite, got " + fmt(b.p_WBo));
+  if (!finite(b.v_WBo)) fail("velocity", "must be finite, got " + fmt(b.v_WBo));
+  if (!finite(b.w_WB)) fail("angular_velocity", "must be finite, got " + fmt(b.w_WB));
+  if (!(std::isfinite(b.linear_drag) && b.linear_drag >= 0.0)) {
+    fail("linear_drag", "must be finite and >= 0, got " + fmt(b.linear_drag));
+  }
+  if (!(std::isfinite(b.angular_drag) && b.angular_drag >= 0.0)) {
+    fail("angular_drag", "must be finite and >= 0, got " + fmt(b.angular_drag));
+  }
+  const int frozen = std::count(b.freeze_rotation.begin(), b.freeze_rotation.end(), true);
+  if (frozen == 1) {
+    fail("freeze_rotation",
+         "freezes exactly one axis: freeze 0, 2 (a hinge about the third world axis) or 3");
+  }
+}
+
+}  // namespace
+
+void World::Impl::compile() {
+  const int n = static_cast<int>(spec.bodies.size());
+  if (!(std::isfinite(spec.dt) && spec.dt > 0.0)) {
+    throw SpecError(-1, "dt",
+                    "world: dt (the physics step) must be finite and > 0, got " + fmt(spec.dt));
+  }
+  if (!finite(spec.g_W))
+    throw SpecError(-1, "gravity", "world: gravity must be finite, got " + fmt(spec.g_W));
+  integrator = spec.integrator.empty() ? &default_integrator() : find_integrator(spec.integrator);
+  if (integrator == nullptr) {
+    std::string names;
+    for (const auto& i : all_integrators())
+      names += (names.empty() ? "" : ", ") + std::string(i.name);
+    throw SpecError(-1, "integrator",
+                    "world: unknown integrator '" + spec.integrator + "' (known: " + names + ")");
+  }
+  for (int i = 0; i < n; ++i) {
+    BodySpec& b = spec.bodies[i];
+    validate_body(b, i);
+    b.q_WB.normalize();
+    if (!by_name.emplace(b.name, i).second) {
+      throw SpecError(i, "name", "body '" + b.name + "': duplicate name");
+    }
+  }
+  for (int k = 0; k < static_cast<int>(spec.loads.size()); ++k) {
+    const LoadSpec& l = spec.loads[k];
+    if (l.body < 0 || l.body >= n) {
+      throw SpecError(-1, "body",
+                      "load #" + std::to_string(k) + ": no body #" + std::to_string(l.body), k);
+    }
+    if (!finite(l.force) || !finite(l.p_BoQ_B) || !finite(l.torque)) {
+      throw SpecError(l.body, "force",
+                      "load #" + std::to_string(k) + " on '" + spec.bodies[l.body].name +
+                          "': force, point and torque must be finite",
+                      k);
+    }
+  }
+
+  model = Model{};
+  model.dt = spec.dt;
+  model.trans.gamma.push_back(0.0);
+  slot.assign(n, Slot{});
+  moments.assign(n, Vec3::Zero());
+  q_BP.assign(n, Quat::Identity());
+  base_loads.assign(n, Loads{});
+  pending_J.assign(n, Vec3::Zero());
+  pending_L.assign(n, Vec3::Zero());
+  pending.clear();
+  pending.reserve(n);
+  std::unordered_map<double, int> drag_row{{0.0, 0}};
+
+  for (int i = 0; i < n; ++i) {
+    const BodySpec& b = spec.bodies[i];
+    const int frozen = std::count(b.freeze_rotation.begin(), b.freeze_rotation.end(), true);
+    BodyModel kind;
+    PrincipalInertia pi;
+    if (b.has_inertia) pi = principal_inertia(b.I_B);
+    const Vec3 I = pi.moments;
+    const double tol = kEqualMoments * (b.has_inertia ? I.z() : 1.0);
+    IsoRot iso;
+    DiagRot diag;
+    if (!b.has_inertia || frozen == 3 || (b.kinematic && b.w_WB.isZero(0))) {
+      kind = BodyModel::kPoint;
+      pi = PrincipalInertia{I, Quat::Identity()};
+    } else if (b.kinematic) {
+      kind = BodyModel::kIsotropic;
+      pi.q_BP = Quat::Identity();
+      iso.inv_I = 0.0;
+    } else if (frozen == 2) {
+      // A hinge about the free world axis e: I_e = e^T R_WB I_B R_WB^T e, constant because the
+      // body only turns about e. P = B; the axis in P is R_WB^T e.
+      kind = BodyModel::kIsotropic;
+      const int free_axis = !b.freeze_rotation[0] ? 0 : (!b.freeze_rotation[1] ? 1 : 2);
+      const Vec3 e = Vec3::Unit(free_axis);
+      const Mat3 R = b.q_WB.toRotationMatrix();
+      const double Ie = e.dot(R * b.I_B * R.transpose() * e);
+      pi.q_BP = Quat::Identity();
+      iso.inv_I = 1.0 / Ie;
+      iso.axis = R.transpose() * e;
+      iso.hinge = 1.0;
+      iso.k = b.angular_drag;
+    } else if (I.z() - I.x() <= tol) {
+      kind = BodyModel::kIsotropic;
+      pi.q_BP = Quat::Identity();  // every frame is principal
+      iso.inv_I = 3.0 / I.sum();
+      iso.k = b.angular_drag;
+    } else if (I.y() - I.x() <= tol || I.z() - I.y() <= tol) {
+      kind = BodyModel::kAxisymmetric;
+      Mat3 R = pi.q_BP.toRotationMatrix();
+      Vec3 J;
+      if (I.y() - I.x() <= tol) {
+        J = Vec3(0.5 * (I.x() + I.y()), 0.5 * (I.x() + I.y()), I.z());
+      } else {
+        // Prolate: the distinct (smallest) moment goes to z by a cyclic, proper permutation.
+        R = (Mat3() << R.col(1), R.col(2), R.col(0)).finished();
+        J = Vec3(0.5 * (I.y() + I.z()), 0.5 * (I.y() + I.z()), I.x());
+      }
+      pi.q_BP = Quat(R);
+      diag.I = J;
+      diag.inv_I = J.cwiseInverse();
+      diag.k = b.angular_drag;
+    } else {
+      kind = BodyModel::kGeneral;
+      diag.I = I;
+      diag.inv_I = I.cwiseInverse();
+      diag.k = b.angular_drag;
+    }
+    q_BP[i] = pi.q_BP.normalized();
+    moments[i] = kind == BodyModel::kIsotropic && iso.inv_I > 0 ? Vec3::Constant(1.0 / iso.inv_I)
+                 : kind == BodyModel::kPoint                    ? Vec3::Zero()
+                 : kind == BodyModel::kIsotropic                ? I
+                                                                : diag.I;
+
+    Linear lin;
+    if (!b.kinematic) {
+      for (int a = 0; a < 3; ++a) {
+        if (b.freeze_translation[a]) continue;
+        lin.inv_m[a] = 1.0 / b.mass;
+        if (b.use_gravity) lin.g[a] = spec.g_W[a];
+      }
+      lin.gamma = b.linear_drag / b.mass;
+      auto [it, added] = drag_row.emplace(lin.gamma, static_cast<int>(model.trans.gamma.size()));
+      if (added) model.trans.gamma.push_back(lin.gamma);
+      lin.drag = it->second;
+    }
+
+    Group& g = group(kind);
+    slot[i] = Slot{kind, g.size()};
+    g.id.push_back(i);
+    g.motion.emplace_back();
+    g.linear.push_back(lin);
+    g.loads.emplace_back();
+    switch (kind) {
+      case BodyModel::kPoint:
+        break;
+      case BodyModel::kIsotropic:
+        model.iso.rot.push_back(iso);
+        model.iso.dq.emplace_back(Quat::Identity());
+        model.iso.dq_ok.push_back(0);
+        break;
+      case BodyModel::kAxisymmetric:
+        model.axi.rot.push_back(diag);
+        model.axi.plan.emplace_back();
+        model.axi.plan_ok.push_back(0);
+        break;
+      case BodyModel::kGeneral:
+        model.gen.rot.push_back(diag);
+        model.gen.rotor.emplace_back(diag.I);
+        model.gen.plan.emplace_back();
+        model.gen.plan_ok.push_back(0);
+        break;
+    }
+    BodyState s{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB};
+    set_state(i, s);
+  }
+  model.trans.coef.resize(model.trans.gamma.size());
+  detail::build_trans_table(model);
+
+  for (const LoadSpec& l : spec.loads) {
+    const BodySpec& b = spec.bodies[l.body];
+    if (b.kinematic) continue;  // a kinematic body ignores every force
+    const Quat q_PB = q_BP[l.body].conjugate();
+    const Vec3 r_P = q_PB * l.p_BoQ_B;
+    Loads& L = base_loads[l.body];
+    if (!l.force.isZero(0)) {
+      L.add_force(l.frame == Frame::kBody ? Vec3(q_PB * l.force) : l.force, r_P,
+                  l.frame == Frame::kBody);
+    }
+    if (!l.torque.isZero(0)) {
+      L.add_torque(l.torque_frame == Frame::kBody ? Vec3(q_PB * l.torque) : l.torque,
+                   l.torque_frame == Frame::kBody);
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    loads(i) = base_loads[i];
+}
+
+void World::Impl::check_id(int id) const {
+  if (id < 0 || id >= static_cast<int>(slot.size())) {
+    throw std::out_of_range("no body with id " + std::to_string(id));
+  }
+}
+
+void World::Impl::invalidate_cache(int id) {
+  const Slot& s = slot[id];
+  switch (s.model) {
+    case BodyModel::kIsotropic:
+      model.iso.dq_ok[s.index] = 0;
+      break;
+    case BodyModel::kAxisymmetric:
+      model.axi.plan_ok[s.index] = 0;
+      break;
+    case BodyModel::kGeneral:
+      model.gen.plan_ok[s.index] = 0;
+      break;
+    case BodyModel::kPoint:
+      break;
+  }
+}
+
+void World::Impl::set_state(int id, const BodyState& st) {
+  const BodySpec& b = spec.bodies[id];
+  Motion& m = motion(id);
+  m.x = st.p_WBo;
+  m.v = st.v_WBo;
+  for (int a = 0; a < 3; ++a) {
+    if (b.freeze_translation[a] && !b.kinematic) m.v[a] = 0.0;
+  }
+  const Slot& s = slot[id];
+  if (s.model == BodyModel::kPoint) {
+    // A point mass keeps its orientation and never turns.
+    m.q = st.q_WB.normalized();
+    m.w.setZero();
+  } else {
+    m.q = (st.q_WB.normalized() * q_BP[id]).normalized();
+    m.w = m.q.conjugate() * st.w_WB;
+    if (s.model == BodyModel::kIsotropic) {
+      const IsoRot& r = model.iso.rot[s.index];
+      if (r.hinge != 0.0) m.w = r.axis * r.axis.dot(m.w);
+    }
+  }
+  invalidate_cache(id);
+}
+
+void World::Impl::apply_pending_impulses() {
+  for (int id : pending) {
+    const Slot& s = slot[id];
+    Group& g = group(s.model);
+    Motion& m = g.motion[s.index];
+    m.v += g.linear[s.index].inv_m.cwiseProduct(pending_J[id]);
+    const Vec3 dL_P = m.q.conjugate() * pending_L[id];
+    switch (s.model) {
+      case BodyModel::kIsotropic:
+        m.w += model.iso.rot[s.index].alpha(dL_P);
+        break;
+      case BodyModel::kAxisymmetric:
+        m.w += model.axi.rot[s.index].alpha(dL_P);
+        break;
+      case BodyModel::kGeneral:
+        m.w += model.gen.rot[s.index].alpha(dL_P);
+        break;
+      case BodyModel::kPoint:
+        break;
+    }
+    invalidate_cache(id);
+    pending_J[id].setZero();
+    pending_L[id].setZero();
+  }
+  pending.clear();
+}
+
+Vec3 World::Impl::angular_momentum_P(int id) const {
+  const Slot& s = slot[id];
+  const Motion& m = motion(id);
+  switch (s.model) {
+    case BodyModel::kPoint:
+      return Vec3::Zero();
+    case BodyModel::kIsotropic: {
+      const IsoRot& r = model.iso.rot[s.index];
+      // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
+      if (r.inv_I == 0.0) return spec.bodies[id].I_B * m.w;
+      return m.w / r.inv_I;
+    }
+    case BodyModel::kAxisymmetric:
+      return model.axi.rot[s.index].I.cwiseProduct(m.w);
+    case BodyModel::kGeneral:
+      return model.gen.rot[s.index].I.cwiseProduct(m.w);
+  }
+  return Vec3::Zero();
+}
+
+World::World(const WorldSpec& spec) : impl_(std::make_unique<Impl>()) {
+  impl_->spec = spec;
+  impl_->compile();
+}
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::World(const World& o) : impl_(std::make_unique<Impl>(*o.impl_)) {}
+World& World::operator=(const World& o) {
+  if (this != &o) impl_ = std::make_unique<Impl>(*o.impl_);
+  return *this;
+}
+
+void World::step() {
+  Impl& w = *impl_;
+  if (!w.pending.empty()) w.apply_pending_impulses();
+  Model& m = w.model;
+  switch (w.integrator->id) {
+    case IntegratorId::kNotesExplicitEuler:
+    case IntegratorId::kNotesSemiImplicitEuler:
+    case IntegratorId::kNotesMidpoint:
+    case IntegratorId::kNotesLeapfrog:
+      detail::step_notes(m, w.integrator->id);
+      break;
+    case IntegratorId::kImplicitGyro:
+      detail::step_implicit_gyro(m);
+      break;
+    case IntegratorId::kRk4:
+      detail::step_rk4(m);
+      break;
+    case IntegratorId::kDlm:
+      detail::step_dlm(m);
+      break;
+    case IntegratorId::kExactRotor:
+      detail::step_exact(m, false);
+      break;
+    case IntegratorId::kExactRotor4:
+      detail::step_exact(m, true);
+      break;
+  }
+  ++w.steps;
+}
+
+void World::step(std::int64_t n) {
+  for (std::int64_t i = 0; i < n; ++i)
+    step();
+}
+
+double World::dt() const {
+  return impl_->model.dt;
+}
+double World::time() const {
+  return static_cast<double>(impl_->steps) * impl_->model.dt;
+}
+std::int64_t World::step_count() const {
+  return impl_->steps;
+}
+const IntegratorInfo& World::integrator() const {
+  return *impl_->integrator;
+}
+int World::body_count() const {
+  return static_cast<int>(impl_->slot.size());
+}
+
+int World::find_body(std::string_view name) const {
+  const auto it = impl_->by_name.find(std::string(name));
+  return it == impl_->by_name.end() ? -1 : it->second;
+}
+
+const BodySpec& World::body_spec(int id) const {
+  impl_->check_id(id);
+  return impl_->spec.bodies[id];
+}
+BodyModel World::body_model(int id) const {
+  impl_->check_id(id);
+  return impl_->slot[id].model;
+}
+Vec3 World::principal_moments(int id) const {
+  impl_->check_id(id);
+  return impl_->moments[id];
+}
+Quat World::q_BP(int id) const {
+  impl_->check_id(id);
+  return impl_->q_BP[id];
+}
+
+BodyState World::state(int id) const {
+  impl_->check_id(id);
+  const Motion& m = impl_->motion(id);
+  BodyState s;
+  s.p_WBo = m.x;
+  s.v_WBo = m.v;
+  if (impl_->slot[id].model == BodyModel::kPoint) {
+    s.q_WB = m.q;
+    s.w_WB.setZero();
+  } else {
+    s.q_WB = m.q * impl_->q_BP[id].conjugate();
+    s.w_WB = m.q * m.w;
+  }
+  return s;
+}
+
+void World::set_state(int id, const BodyState& s) {
+  impl_->check_id(id);
+  impl_->set_state(id, s);
+}
+
+void World::reset() {
+  Impl& w = *impl_;
+  w.steps = 0;
+  for (int i = 0; i < body_count(); ++i) {
+    const BodySpec& b = w.spec.bodies[i];
+    w.set_state(i, BodyState{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB});
+    w.pending_J[i].setZero();
+    w.pending_L[i].setZero();
+  }
+  w.pending.clear();
+  clear_applied();
+}
+
+void World::clear_applied() {
+  Impl& w = *impl_;
+  for (int i = 0; i < body_count(); ++i)
+    w.loads(i) = w.base_loads[i];
+}
+
+void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
+  Impl& w = *impl_;
+  w.check_id(id);
+  if (w.spec.bodies[id].kinematic) return;
+  const Quat q_PB = w.q_BP[id].conjugate();
+  const bool body = frame == Frame::kBody;
+  w.loads(id).add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
+}
+
+void World::add_torque(int id, const Vec3& tau, Frame frame) {
+  Impl& w = *impl_;
+  w.check_id(id);
+  if (w.spec.bodies[id].kinematic) return;
+  const bool body = frame == Frame::kBody;
+  w.loads(id).add_torque(body ? Vec3(w.q_BP[id].conjugate() * tau) : tau, body);
+}
+
+void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame) {
+  Impl& w = *impl_;
+  w.check_id(id);
+  if (w.spec.bodies[id].kinematic) return;
+  const BodyState s = state(id);
+  const Vec3 J_W = frame == Frame::kBody ? Vec3(s.q_WB * J) : J;
+  const Vec3 r_W = s.q_WB * p_BoQ_B;
+  if (w.pending_J[id].isZero(0) && w.pending_L[id].isZero(0)) w.pending.push_back(id);
+  w.pending_J[id] += J_W;
+  w.pending_L[id] += r_W.cross(J_W);
+}
+
+double World::kinetic_energy(int id) const {
+  impl_->check_id(id);
+  const Motion& m = impl_->motion(id);
+  const double mass = impl_->spec.bodies[id].mass;
+  return 0.5 * mass * m.v.squaredNorm() + 0.5 * m.w.dot(impl_->angular_momentum_P(id));
+}
+
+double World::total_energy() const {
+  double e = 0.0;
+  for (int i = 0; i < body_count(); ++i) {
+    e += kinetic_energy(i);
+    const Linear& lin = impl_->linear(i);
+    e -= impl_->spec.bodies[i].mass * lin.g.dot(impl_->motion(i).x);
+  }
+  return e;
+}
+
+Vec3 World::angular_momentum_W(int id) const {
+  impl_->check_id(id);
+  return impl_->motion(id).q * impl_->angular_momentum_P(id);
+}
+
+}  // namespace rigid::physics

@@ -1,0 +1,63 @@
+// Scene files: protobuf text format (msgs/rigid.proto) -> a validated physics::WorldSpec.
+//
+// Every problem a user can put in a scene file is reported as a SceneError whose what() is one
+// line, "FILE:LINE:COL: message", pointing at the field at fault and naming its value. Nothing is
+// returned unless the whole scene is valid, including everything the physics::World constructor
+// checks.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "physics/spec.hpp"
+
+namespace rigid::scene {
+
+// Bounds the daemon enforces on commands from the network.
+struct Limits {
+  double max_force = 1e6;   // N
+  double max_torque = 1e6;  // N m
+  double max_ttl = 60.0;    // s
+};
+
+struct Scene {
+  // world.dt = 1 / (rate_hz * substeps).
+  physics::WorldSpec world;
+  double rate_hz = 1000.0;  // ticks per second
+  int substeps = 1;         // physics steps per tick
+  int publish_every = 1;    // ticks between published states
+  Limits limits;
+  // One line each, "FILE:LINE:COL: warning: ...", for things the loader fixed or that look
+  // unintended.
+  std::vector<std::string> warnings;
+  // The file name (or the name given to parse_scene).
+  std::string path;
+};
+
+class SceneError : public std::runtime_error {
+ public:
+  // line and column are 1-based; line 0 means the problem has no position (e.g. unreadable file),
+  // and then what() is "FILE: message".
+  SceneError(std::string file, int line, int column, std::string message);
+
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  int column() const { return column_; }
+  // The message without the "FILE:LINE:COL: " prefix.
+  const std::string& message() const { return message_; }
+
+ private:
+  std::string file_;
+  int line_;
+  int column_;
+  std::string message_;
+};
+
+// Reads, parses and validates a scene file. Throws SceneError.
+Scene load_scene(const std::string& path);
+// Parses and validates scene text; `name` stands for the file in messages. Throws SceneError.
+Scene parse_scene(std::string_view text, std::string_view name);
+
+}  // namespace rigid::scene

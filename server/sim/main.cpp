@@ -1,0 +1,41 @@
+// rigid-sim: runs a scene in batch (no real time, no network) and reports drift and cost.
+// Wiring only: the work is in sim_options (command line) and sim_run (run and report).
+#include <exception>
+#include <iostream>
+#include <string_view>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "sim/sim_options.hpp"
+#include "sim/sim_run.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rigid;
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  try {
+    const sim::SimOptions options = sim::parse_options(args);
+    if (options.help) {
+      std::cout << sim::usage();
+      return 0;
+    }
+    if (options.list_integrators) {
+      sim::print_integrators(std::cout);
+      return 0;
+    }
+    const scene::Scene scene = scene::load_scene(options.scene);
+    for (const std::string& w : scene.warnings)
+      std::cerr << w << '\n';
+    const sim::RunSummary summary = sim::run(scene, options);
+    sim::print_summary(std::cout, summary);
+    return 0;
+  } catch (const sim::UsageError& e) {
+    std::cerr << "rigid-sim: " << e.what() << '\n';
+    return 2;
+  } catch (const scene::SceneError& e) {
+    std::cerr << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rigid-sim: " << e.what() << '\n';
+    return 1;
+  }
+}

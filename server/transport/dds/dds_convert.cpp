@@ -1,0 +1,252 @@
+#include "transport/dds/dds_convert.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <string>
+
+namespace rigid::transport::dds {
+namespace {
+
+// The largest multiple of n any rigid sequence has is 6n; DDS lengths are uint32.
+constexpr std::size_t kMaxBodies = std::numeric_limits<std::uint32_t>::max() / 6;
+
+// The writer only reads the buffer, so lending a const vector's storage is safe; _release = false
+// tells Cyclone it does not own it.
+template <class Seq, class T>
+void lend(const std::vector<T>& in, Seq& out) {
+  out._maximum = static_cast<std::uint32_t>(in.size());
+  out._length = out._maximum;
+  out._buffer = const_cast<T*>(in.data());
+  out._release = false;
+}
+
+char* lend(const std::string& in) {
+  return const_cast<char*>(in.c_str());
+}
+
+template <class T, class Seq>
+void copy_seq(const Seq& in, std::vector<T>& out) {
+  if (in._buffer == nullptr) {
+    out.clear();
+    return;
+  }
+  out.assign(in._buffer, in._buffer + in._length);
+}
+
+void copy_string(const char* in, std::string& out) {
+  if (in == nullptr) {
+    out.clear();
+  } else {
+    out.assign(in);
+  }
+}
+
+void copy3(const Vec3& in, double (&out)[3]) {
+  std::copy(in.begin(), in.end(), out);
+}
+void copy3(const double (&in)[3], Vec3& out) {
+  std::copy(std::begin(in), std::end(in), out.begin());
+}
+
+}  // namespace
+
+bool borrow(const StateFrame& in, BorrowScratch& /*scratch*/, rigid_WorldState& out) {
+  if (!in.lengths_agree() || in.body_count() > kMaxBodies) return false;
+  out.tick = in.tick;
+  out.sim_time = in.sim_time;
+  out.stamp_ns = in.stamp_ns;
+  lend(in.ids, out.ids);
+  lend(in.position, out.position);
+  lend(in.orientation, out.orientation);
+  lend(in.linear_velocity, out.linear_velocity);
+  lend(in.angular_velocity, out.angular_velocity);
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_WorldState& in, StateFrame& out) {
+  const std::size_t n = in.ids._length;
+  if (in.position._length != 3 * n || in.orientation._length != 4 * n ||
+      in.linear_velocity._length != 3 * n || in.angular_velocity._length != 3 * n) {
+    return DecodeStatus::kInconsistentLengths;
+  }
+  out.tick = in.tick;
+  out.sim_time = in.sim_time;
+  out.stamp_ns = in.stamp_ns;
+  copy_seq(in.ids, out.ids);
+  copy_seq(in.position, out.position);
+  copy_seq(in.orientation, out.orientation);
+  copy_seq(in.linear_velocity, out.linear_velocity);
+  copy_seq(in.angular_velocity, out.angular_velocity);
+  return DecodeStatus::kOk;
+}
+
+bool borrow(const WrenchCommand& in, BorrowScratch& /*scratch*/, rigid_Wrench& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.key = in.key;
+  out.body_id = in.body_id;
+  out.body_name = lend(in.body_name);
+  copy3(in.force, out.force);
+  copy3(in.point, out.point);
+  out.force_frame = static_cast<std::int32_t>(in.force_frame);
+  copy3(in.torque, out.torque);
+  out.torque_frame = static_cast<std::int32_t>(in.torque_frame);
+  out.ttl = in.ttl;
+  out.stamp_ns = in.stamp_ns;
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_Wrench& in, WrenchCommand& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.key = in.key;
+  out.body_id = in.body_id;
+  copy_string(in.body_name, out.body_name);
+  copy3(in.force, out.force);
+  copy3(in.point, out.point);
+  out.force_frame = static_cast<Frame>(in.force_frame);
+  copy3(in.torque, out.torque);
+  out.torque_frame = static_cast<Frame>(in.torque_frame);
+  out.ttl = in.ttl;
+  out.stamp_ns = in.stamp_ns;
+  return DecodeStatus::kOk;
+}
+
+bool borrow(const ControlCommand& in, BorrowScratch& /*scratch*/, rigid_Control& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.command = static_cast<std::int32_t>(in.command);
+  out.steps = in.steps;
+  out.rtf = in.rtf;
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_Control& in, ControlCommand& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.command = static_cast<ControlKind>(in.command);
+  out.steps = in.steps;
+  out.rtf = in.rtf;
+  return DecodeStatus::kOk;
+}
+
+bool borrow(const ControlReply& in, BorrowScratch& /*scratch*/, rigid_ControlReply& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.command = static_cast<std::int32_t>(in.command);
+  out.outcome = static_cast<std::int32_t>(in.outcome);
+  out.tick = in.tick;
+  out.message = lend(in.message);
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_ControlReply& in, ControlReply& out) {
+  out.source = in.source;
+  out.seq = in.seq;
+  out.command = static_cast<ControlKind>(in.command);
+  out.outcome = static_cast<Outcome>(in.outcome);
+  out.tick = in.tick;
+  copy_string(in.message, out.message);
+  return DecodeStatus::kOk;
+}
+
+bool borrow(const StatsReport& in, BorrowScratch& /*scratch*/, rigid_Stats& out) {
+  out.tick = in.tick;
+  out.sim_time = in.sim_time;
+  out.mode = static_cast<std::int32_t>(in.mode);
+  out.paused = in.paused;
+  out.rtf_last_second = in.rtf_last_second;
+  out.rtf_since_start = in.rtf_since_start;
+  out.lateness_p50_us = in.lateness_p50_us;
+  out.lateness_p99_us = in.lateness_p99_us;
+  out.lateness_max_us = in.lateness_max_us;
+  out.overruns = in.overruns;
+  out.step_cost_p50_us = in.step_cost_p50_us;
+  out.step_cost_max_us = in.step_cost_max_us;
+  out.states_skipped = in.states_skipped;
+  out.commands_accepted = in.commands_accepted;
+  out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,
+                  in.rejected.undecodable, in.rejected.stale_sequence, in.rejected.queue_full,
+                  in.rejected.invalid};
+  out.dds = {in.dds.sent, in.dds.send_failures, in.dds.received, in.dds.decode_failures};
+  out.lcm = {in.lcm.sent, in.lcm.send_failures, in.lcm.received, in.lcm.decode_failures};
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_Stats& in, StatsReport& out) {
+  out.tick = in.tick;
+  out.sim_time = in.sim_time;
+  out.mode = static_cast<Mode>(in.mode);
+  out.paused = in.paused;
+  out.rtf_last_second = in.rtf_last_second;
+  out.rtf_since_start = in.rtf_since_start;
+  out.lateness_p50_us = in.lateness_p50_us;
+  out.lateness_p99_us = in.lateness_p99_us;
+  out.lateness_max_us = in.lateness_max_us;
+  out.overruns = in.overruns;
+  out.step_cost_p50_us = in.step_cost_p50_us;
+  out.step_cost_max_us = in.step_cost_max_us;
+  out.states_skipped = in.states_skipped;
+  out.commands_accepted = in.commands_accepted;
+  out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,
+                  in.rejected.undecodable, in.rejected.stale_sequence, in.rejected.queue_full,
+                  in.rejected.invalid};
+  out.dds = {in.dds.sent, in.dds.send_failures, in.dds.received, in.dds.decode_failures};
+  out.lcm = {in.lcm.sent, in.lcm.send_failures, in.lcm.received, in.lcm.decode_failures};
+  return DecodeStatus::kOk;
+}
+
+bool borrow(const SceneDescription& in, BorrowScratch& scratch, rigid_SceneInfo& out) {
+  if (!in.lengths_agree() || in.body_count() > kMaxBodies) return false;
+  out.scene_name = lend(in.scene_name);
+  out.dt = in.dt;
+  out.substeps = in.substeps;
+  out.publish_every = in.publish_every;
+  copy3(in.gravity, out.gravity);
+  out.integrator = lend(in.integrator);
+  out.max_force = in.max_force;
+  out.max_torque = in.max_torque;
+  lend(in.ids, out.ids);
+  scratch.names.resize(in.names.size());
+  std::transform(in.names.begin(), in.names.end(), scratch.names.begin(),
+                 [](const std::string& name) { return lend(name); });
+  lend(scratch.names, out.names);
+  lend(in.masses, out.masses);
+  lend(in.inertia, out.inertia);
+  scratch.shape_kinds.resize(in.shape_kinds.size());
+  std::transform(in.shape_kinds.begin(), in.shape_kinds.end(), scratch.shape_kinds.begin(),
+                 [](ShapeKind kind) { return static_cast<std::int32_t>(kind); });
+  lend(scratch.shape_kinds, out.shape_kinds);
+  lend(in.shape_dims, out.shape_dims);
+  return true;
+}
+
+DecodeStatus copy_from(const rigid_SceneInfo& in, SceneDescription& out) {
+  const std::size_t n = in.ids._length;
+  if (in.names._length != n || in.masses._length != n || in.inertia._length != 6 * n ||
+      in.shape_kinds._length != n || in.shape_dims._length != 3 * n) {
+    return DecodeStatus::kInconsistentLengths;
+  }
+  copy_string(in.scene_name, out.scene_name);
+  out.dt = in.dt;
+  out.substeps = in.substeps;
+  out.publish_every = in.publish_every;
+  copy3(in.gravity, out.gravity);
+  copy_string(in.integrator, out.integrator);
+  out.max_force = in.max_force;
+  out.max_torque = in.max_torque;
+  copy_seq(in.ids, out.ids);
+  out.names.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    copy_string(in.names._buffer[i], out.names[i]);
+  copy_seq(in.masses, out.masses);
+  copy_seq(in.inertia, out.inertia);
+  out.shape_kinds.resize(n);
+  std::transform(in.shape_kinds._buffer, in.shape_kinds._buffer + n, out.shape_kinds.begin(),
+                 [](std::int32_t kind) { return static_cast<ShapeKind>(kind); });
+  copy_seq(in.shape_dims, out.shape_dims);
+  return DecodeStatus::kOk;
+}
+
+}  // namespace rigid::transport::dds

@@ -1,0 +1,201 @@
+#include "transport/lcm/lcm_codec.hpp"
+
+#include <array>
+#include <exception>
+#include <limits>
+#include <vector>
+
+#include "transport/lcm/lcm_convert.hpp"
+#include "transport/lcm/lcm_layout_check.hpp"
+
+namespace rigid::transport::lcm {
+namespace {
+
+using K = FieldLayout::Kind;
+
+// The encoded layouts of msgs/rigid.lcm, field by field. A mismatch with the .lcm file makes valid
+// messages fail this check, which the round-trip tests catch.
+constexpr FieldLayout kCount{K::kCount};
+constexpr FieldLayout kI8{K::kInt8};
+constexpr FieldLayout kI32{K::kInt32};
+constexpr FieldLayout kI64{K::kInt64};
+constexpr FieldLayout kF64{K::kDouble};
+constexpr FieldLayout kStr{K::kString};
+constexpr FieldLayout kVec3{K::kDouble, 3};
+constexpr FieldLayout fixed(K kind, std::int32_t n) {
+  return {kind, n};
+}
+constexpr FieldLayout counted(K kind, std::int32_t count_field) {
+  return {kind, 1, count_field};
+}
+
+constexpr std::array kWorldStateLayout{
+    kCount,                  // num_bodies
+    kCount,                  // num_xyz
+    kCount,                  // num_wxyz
+    kI64,                    // tick
+    kF64,                    // sim_time
+    kI64,                    // stamp_ns
+    counted(K::kInt32, 0),   // ids
+    counted(K::kDouble, 1),  // position
+    counted(K::kDouble, 2),  // orientation
+    counted(K::kDouble, 1),  // linear_velocity
+    counted(K::kDouble, 1),  // angular_velocity
+};
+
+constexpr std::array kWrenchLayout{
+    kI64,   // source
+    kI64,   // seq
+    kI32,   // key
+    kI32,   // body_id
+    kStr,   // body_name
+    kVec3,  // force
+    kVec3,  // point
+    kI32,   // force_frame
+    kVec3,  // torque
+    kI32,   // torque_frame
+    kF64,   // ttl
+    kI64,   // stamp_ns
+};
+
+constexpr std::array kControlLayout{
+    kI64,  // source
+    kI64,  // seq
+    kI32,  // command
+    kI64,  // steps
+    kF64,  // rtf
+};
+
+constexpr std::array kControlReplyLayout{
+    kI64,  // source
+    kI64,  // seq
+    kI32,  // command
+    kI32,  // outcome
+    kI64,  // tick
+    kStr,  // message
+};
+
+constexpr std::array kStatsLayout{
+    kI64,                  // tick
+    kF64,                  // sim_time
+    kI32,                  // mode
+    kI8,                   // paused
+    fixed(K::kDouble, 5),  // rtf_last_second .. lateness_max_us
+    kI64,                  // overruns
+    fixed(K::kDouble, 2),  // step_cost_p50_us, step_cost_max_us
+    kI64,                  // states_skipped
+    kI64,                  // commands_accepted
+    fixed(K::kInt64, 7),   // rejected (RejectCounts, inline)
+    fixed(K::kInt64, 4),   // dds (TransportCounts, inline)
+    fixed(K::kInt64, 4),   // lcm
+};
+
+constexpr std::array kSceneInfoLayout{
+    kCount,                  // num_bodies
+    kCount,                  // num_inertia
+    kCount,                  // num_shape_dims
+    kStr,                    // scene_name
+    kF64,                    // dt
+    kI32,                    // substeps
+    kI32,                    // publish_every
+    kVec3,                   // gravity
+    kStr,                    // integrator
+    kF64,                    // max_force
+    kF64,                    // max_torque
+    counted(K::kInt32, 0),   // ids
+    counted(K::kString, 0),  // names
+    counted(K::kDouble, 0),  // masses
+    counted(K::kDouble, 1),  // inertia
+    counted(K::kInt32, 0),   // shape_kinds
+    counted(K::kDouble, 2),  // shape_dims
+};
+
+// One message type's scratch: separate messages for the encoding and the decoding side, so the two
+// may run on different threads.
+template <class LcmType>
+struct Slot {
+  LcmType outgoing{};
+  std::vector<std::uint8_t> bytes;
+  LcmType incoming{};
+};
+
+template <class LcmType, class Plain>
+std::span<const std::uint8_t> encode_with(Slot<LcmType>& slot, const Plain& message) {
+  if (!to_lcm(message, slot.outgoing)) return {};
+  const int size = slot.outgoing.getEncodedSize();
+  slot.bytes.resize(static_cast<std::size_t>(size));
+  if (slot.outgoing.encode(slot.bytes.data(), 0, size) != size) return {};
+  return slot.bytes;
+}
+
+template <class LcmType, class Plain, std::size_t N>
+DecodeStatus decode_with(Slot<LcmType>& slot, const std::array<FieldLayout, N>& layout,
+                         std::span<const std::uint8_t> payload, Plain& out) {
+  if (payload.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    return DecodeStatus::kMalformed;
+  }
+  const DecodeStatus checked = check_layout(payload, LcmType::getHash(), layout);
+  if (checked != DecodeStatus::kOk) return checked;
+  const int size = static_cast<int>(payload.size());
+  try {
+    if (slot.incoming.decode(payload.data(), 0, size) != size) return DecodeStatus::kMalformed;
+  } catch (const std::exception&) {
+    // Only memory exhaustion can get here once the layout has been checked.
+    return DecodeStatus::kMalformed;
+  }
+  return from_lcm(slot.incoming, out);
+}
+
+}  // namespace
+
+struct Codec::Buffers {
+  Slot<rigid_lcm::WorldState> state;
+  Slot<rigid_lcm::Wrench> wrench;
+  Slot<rigid_lcm::Control> control;
+  Slot<rigid_lcm::ControlReply> reply;
+  Slot<rigid_lcm::Stats> stats;
+  Slot<rigid_lcm::SceneInfo> scene;
+};
+
+Codec::Codec() : buffers_(std::make_unique<Buffers>()) {}
+Codec::~Codec() = default;
+
+std::span<const std::uint8_t> Codec::encode(const StateFrame& message) {
+  return encode_with(buffers_->state, message);
+}
+std::span<const std::uint8_t> Codec::encode(const WrenchCommand& message) {
+  return encode_with(buffers_->wrench, message);
+}
+std::span<const std::uint8_t> Codec::encode(const ControlCommand& message) {
+  return encode_with(buffers_->control, message);
+}
+std::span<const std::uint8_t> Codec::encode(const ControlReply& message) {
+  return encode_with(buffers_->reply, message);
+}
+std::span<const std::uint8_t> Codec::encode(const StatsReport& message) {
+  return encode_with(buffers_->stats, message);
+}
+std::span<const std::uint8_t> Codec::encode(const SceneDescription& message) {
+  return encode_with(buffers_->scene, message);
+}
+
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StateFrame& out) {
+  return decode_with(buffers_->state, kWorldStateLayout, payload, out);
+}
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, WrenchCommand& out) {
+  return decode_with(buffers_->wrench, kWrenchLayout, payload, out);
+}
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, ControlCommand& out) {
+  return decode_with(buffers_->control, kControlLayout, payload, out);
+}
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, ControlReply& out) {
+  return decode_with(buffers_->reply, kControlReplyLayout, payload, out);
+}
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StatsReport& out) {
+  return decode_with(buffers_->stats, kStatsLayout, payload, out);
+}
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, SceneDescription& out) {
+  return decode_with(buffers_->scene, kSceneInfoLayout, payload, out);
+}
+
+}  // namespace rigid::transport::lcm

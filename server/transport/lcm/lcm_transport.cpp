@@ -1,0 +1,190 @@
+#include "transport/lcm/lcm_transport.hpp"
+
+#include <poll.h>
+#include <sys/eventfd.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <mutex>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "transport/lcm/lcm_codec.hpp"
+#include "transport/lcm/lcm_handle.hpp"
+#include "transport/message_topic.hpp"
+#include "transport/traffic_counter.hpp"
+
+namespace rigid::transport::lcm {
+namespace {
+
+void deliver(Receiver& receiver, const StateFrame& message) {
+  receiver.on_state(message);
+}
+void deliver(Receiver& receiver, const WrenchCommand& message) {
+  receiver.on_wrench(message);
+}
+void deliver(Receiver& receiver, const ControlCommand& message) {
+  receiver.on_control(message);
+}
+void deliver(Receiver& receiver, const ControlReply& message) {
+  receiver.on_control_reply(message);
+}
+void deliver(Receiver& receiver, const StatsReport& message) {
+  receiver.on_stats(message);
+}
+void deliver(Receiver& receiver, const SceneDescription& message) {
+  receiver.on_scene(message);
+}
+
+// What the receive thread needs to turn a payload into a callback.
+struct Intake {
+  Codec& codec;
+  Receiver& receiver;
+  TrafficCounter& counter;
+};
+
+// One subscribed channel and the plain message its payloads are decoded into (reused).
+class Inbox {
+ public:
+  virtual ~Inbox() = default;
+  virtual void handle(std::span<const std::uint8_t> payload) = 0;
+
+  // lcm's C callback; `user` is the Inbox.
+  static void on_message(const lcm_recv_buf_t* buffer, const char* /*channel*/, void* user) {
+    static_cast<Inbox*>(user)->handle(
+        {static_cast<const std::uint8_t*>(buffer->data), buffer->data_size});
+  }
+};
+
+template <class Plain>
+class TypedInbox final : public Inbox {
+ public:
+  explicit TypedInbox(Intake intake) : intake_(intake) {}
+
+  void handle(std::span<const std::uint8_t> payload) override {
+    const DecodeStatus status = intake_.codec.decode(payload, message_);
+    if (status == DecodeStatus::kOk) {
+      intake_.counter.received();
+      deliver(intake_.receiver, message_);
+    } else {
+      intake_.counter.decode_failed();
+      intake_.receiver.on_decode_error({Bus::kLcm, TopicOf<Plain>::value, status, payload.size()});
+    }
+  }
+
+ private:
+  Intake intake_;
+  Plain message_;
+};
+
+class LcmTransport final : public Transport {
+ public:
+  LcmTransport(const Options& options, Receiver& receiver)
+      : role_(options.role), channels_(lcm_channel_names(options.prefix)) {
+    if (!is_valid_prefix(options.prefix)) {
+      throw TransportError("LCM: invalid prefix '" + options.prefix +
+                           "' (letters, digits and '_' only)");
+    }
+    lcm_.reset(lcm_create(options.url.c_str()));
+    if (!lcm_) {
+      throw TransportError("LCM: cannot open " + options.url +
+                           " (udpm on this host needs a multicast route on lo: run "
+                           "scripts/net-setup as root, or 'ip route replace 224.0.0.0/4 dev lo')");
+    }
+    wake_ = FileDescriptor(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
+    if (wake_.get() < 0) {
+      throw TransportError(std::string("LCM: cannot create an eventfd: ") + std::strerror(errno));
+    }
+    const Intake intake{codec_, receiver, counter_};
+    subscribe<StateFrame>(intake);
+    subscribe<WrenchCommand>(intake);
+    subscribe<ControlCommand>(intake);
+    subscribe<ControlReply>(intake);
+    subscribe<StatsReport>(intake);
+    subscribe<SceneDescription>(intake);
+    thread_ = std::thread([this] { receive_loop(); });
+  }
+
+  ~LcmTransport() override {
+    // Cannot fail: the counter is far from overflowing after one increment.
+    eventfd_write(wake_.get(), 1);
+    if (thread_.joinable()) thread_.join();
+  }
+
+  LcmTransport(const LcmTransport&) = delete;
+  LcmTransport& operator=(const LcmTransport&) = delete;
+
+  Bus bus() const override { return Bus::kLcm; }
+  Role role() const override { return role_; }
+
+  PublishResult publish(const StateFrame& m) override { return send(m); }
+  PublishResult publish(const StatsReport& m) override { return send(m); }
+  PublishResult publish(const SceneDescription& m) override { return send(m); }
+  PublishResult publish(const ControlReply& m) override { return send(m); }
+  PublishResult publish(const WrenchCommand& m) override { return send(m); }
+  PublishResult publish(const ControlCommand& m) override { return send(m); }
+
+  TransportCounts counts() const override { return counter_.snapshot(); }
+
+ private:
+  template <class Plain>
+  void subscribe(const Intake& intake) {
+    constexpr Topic topic = TopicOf<Plain>::value;
+    if (publishes(role_, topic)) return;
+    inboxes_.push_back(std::make_unique<TypedInbox<Plain>>(intake));
+    const std::string& channel = channels_[index_of(topic)];
+    if (lcm_subscribe(lcm_.get(), channel.c_str(), &Inbox::on_message, inboxes_.back().get()) ==
+        nullptr) {
+      throw TransportError("LCM: cannot subscribe to " + channel);
+    }
+  }
+
+  template <class Plain>
+  PublishResult send(const Plain& message) {
+    constexpr std::size_t i = index_of(TopicOf<Plain>::value);
+    if (!publishes(role_, TopicOf<Plain>::value)) return PublishResult::kWrongRole;
+    const std::lock_guard lock(send_mutex_[i]);
+    const std::span<const std::uint8_t> payload = codec_.encode(message);
+    if (payload.empty()) return PublishResult::kInvalid;
+    // lcm_publish returns 0 even when receivers drop the message: loss is only seen by them.
+    const int result = lcm_publish(lcm_.get(), channels_[i].c_str(), payload.data(),
+                                   static_cast<unsigned int>(payload.size()));
+    return counter_.count(result == 0 ? PublishResult::kOk : PublishResult::kFailed);
+  }
+
+  void receive_loop() {
+    std::array<pollfd, 2> fds{};
+    fds[0] = {lcm_get_fileno(lcm_.get()), POLLIN, 0};
+    fds[1] = {wake_.get(), POLLIN, 0};
+    for (;;) {
+      if (::poll(fds.data(), fds.size(), -1) < 0) {
+        if (errno == EINTR) continue;
+        return;
+      }
+      if (fds[1].revents != 0) return;
+      // LCM's descriptor is readable once a whole message is queued, so this does not block.
+      if ((fds[0].revents & POLLIN) != 0 && lcm_handle(lcm_.get()) != 0) return;
+    }
+  }
+
+  const Role role_;
+  const TopicNames channels_;
+  TrafficCounter counter_;
+  Codec codec_;
+  std::array<std::mutex, kAllTopics.size()> send_mutex_;  // guards the codec's encode buffers
+  std::vector<std::unique_ptr<Inbox>> inboxes_;           // outlive lcm_, which calls into them
+  LcmHandle lcm_;
+  FileDescriptor wake_;
+  std::thread thread_;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver) {
+  return std::make_unique<LcmTransport>(options, receiver);
+}
+
+}  // namespace rigid::transport::lcm

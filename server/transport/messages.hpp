@@ -1,0 +1,189 @@
+// The messages rigid exchanges, as plain C++ values: what the rest of the server and the clients
+// see. Each bus adapter converts these to and from its generated types (msgs/rigid.idl,
+// msgs/rigid.lcm carry the same fields; read rigid.idl for units and frames). Nothing here knows
+// about DDS, LCM or the physics core.
+//
+// Per-body values are flat and interleaved per body, as on the wire: body i's position is
+// position[3 i .. 3 i + 2], its orientation (w, x, y, z) is orientation[4 i .. 4 i + 3]. Decoders
+// guarantee these lengths agree with ids.size(); publishers expect the same.
+//
+// Enumerations carry whatever integer arrived: a value outside the named ones is passed through
+// unchanged, and rejecting it is the receiver's (the loop's) decision, so it can be counted.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rigid::transport {
+
+enum class Frame : std::int32_t { kWorld = 0, kBody = 1 };
+
+enum class ControlKind : std::int32_t {
+  kNone = 0,  // what a zero-initialized message asks for: nothing, so it is rejected
+  kPause = 1,
+  kResume = 2,
+  kStep = 3,
+  kReset = 4,
+  kSetRtf = 5,
+};
+
+enum class Outcome : std::int32_t { kOk = 0, kInvalid = 1, kNotAllowed = 2, kFailed = 3 };
+
+enum class Mode : std::int32_t { kRealtime = 0, kFast = 1, kLockstep = 2 };
+
+enum class ShapeKind : std::int32_t {
+  kNone = 0,
+  kSphere = 1,     // dims: radius
+  kBox = 2,        // dims: full side lengths along B's x, y, z
+  kCylinder = 3,   // dims: radius, length along B's z
+  kEllipsoid = 4,  // dims: semi-axes along B's x, y, z
+};
+
+using Vec3 = std::array<double, 3>;
+
+// One published state of the world (server -> all).
+struct StateFrame {
+  std::int64_t tick = 0;
+  double sim_time = 0.0;      // tick * dt (s)
+  std::int64_t stamp_ns = 0;  // wall clock (CLOCK_REALTIME) at publish
+  std::vector<std::int32_t> ids;
+  std::vector<double> position;          // 3n: p_WBo
+  std::vector<double> orientation;       // 4n: q_WB as w, x, y, z
+  std::vector<double> linear_velocity;   // 3n: v_WBo in W
+  std::vector<double> angular_velocity;  // 3n: w_WB in W
+
+  std::size_t body_count() const { return ids.size(); }
+  // Sizes every per-body vector for n bodies; keeps capacity, so a reused frame stops allocating.
+  void resize(std::size_t n) {
+    ids.resize(n);
+    position.resize(3 * n);
+    orientation.resize(4 * n);
+    linear_velocity.resize(3 * n);
+    angular_velocity.resize(3 * n);
+  }
+  bool lengths_agree() const {
+    const std::size_t n = ids.size();
+    return position.size() == 3 * n && orientation.size() == 4 * n &&
+           linear_velocity.size() == 3 * n && angular_velocity.size() == 3 * n;
+  }
+  bool operator==(const StateFrame&) const = default;
+};
+
+// A force at a body-local point, plus an optional pure torque (controller -> server). The same
+// (source, body, key) replaces the previous wrench; it acts until ttl runs out (0: one tick).
+struct WrenchCommand {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  std::int32_t key = 0;
+  std::int32_t body_id = -1;  // < 0: the body is named by body_name
+  std::string body_name;
+  Vec3 force{};  // N, in force_frame
+  Vec3 point{};  // application point from the centre of mass, in B (m)
+  Frame force_frame = Frame::kWorld;
+  Vec3 torque{};  // N m, in torque_frame; zero for none
+  Frame torque_frame = Frame::kWorld;
+  double ttl = 0.0;  // s
+  std::int64_t stamp_ns = 0;
+
+  bool operator==(const WrenchCommand&) const = default;
+};
+
+// pause / resume / step N / reset / set real-time factor (client -> server).
+struct ControlCommand {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  ControlKind command = ControlKind::kNone;
+  std::int64_t steps = 0;  // kStep
+  double rtf = 0.0;        // kSetRtf
+
+  bool operator==(const ControlCommand&) const = default;
+};
+
+// The answer to one ControlCommand (server -> clients), echoing its source and seq.
+struct ControlReply {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  ControlKind command = ControlKind::kNone;
+  Outcome outcome = Outcome::kOk;
+  std::int64_t tick = 0;
+  std::string message;  // why, when outcome != kOk
+
+  bool operator==(const ControlReply&) const = default;
+};
+
+// Commands the server refused, by reason.
+struct RejectCounts {
+  std::int64_t non_finite = 0;
+  std::int64_t unknown_body = 0;
+  std::int64_t over_limit = 0;
+  std::int64_t undecodable = 0;
+  std::int64_t stale_sequence = 0;
+  std::int64_t queue_full = 0;
+  std::int64_t invalid = 0;
+
+  bool operator==(const RejectCounts&) const = default;
+};
+
+// The traffic of one bus.
+struct TransportCounts {
+  std::int64_t sent = 0;
+  std::int64_t send_failures = 0;
+  std::int64_t received = 0;
+  std::int64_t decode_failures = 0;
+
+  bool operator==(const TransportCounts&) const = default;
+};
+
+// Loop health, once a second (server -> all).
+struct StatsReport {
+  std::int64_t tick = 0;
+  double sim_time = 0.0;
+  Mode mode = Mode::kRealtime;
+  bool paused = false;
+  double rtf_last_second = 0.0;
+  double rtf_since_start = 0.0;
+  double lateness_p50_us = 0.0;
+  double lateness_p99_us = 0.0;
+  double lateness_max_us = 0.0;
+  std::int64_t overruns = 0;
+  double step_cost_p50_us = 0.0;
+  double step_cost_max_us = 0.0;
+  std::int64_t states_skipped = 0;
+  std::int64_t commands_accepted = 0;
+  RejectCounts rejected;
+  TransportCounts dds;
+  TransportCounts lcm;
+
+  bool operator==(const StatsReport&) const = default;
+};
+
+// What the scene holds (server -> all; late joiners get it).
+struct SceneDescription {
+  std::string scene_name;
+  double dt = 0.0;  // tick period (s)
+  std::int32_t substeps = 1;
+  std::int32_t publish_every = 1;
+  Vec3 gravity{};
+  std::string integrator;
+  double max_force = 0.0;  // <= 0: unlimited
+  double max_torque = 0.0;
+  std::vector<std::int32_t> ids;
+  std::vector<std::string> names;
+  std::vector<double> masses;
+  std::vector<double> inertia;  // 6n: Ixx, Iyy, Izz, Ixy, Ixz, Iyz about the centre of mass, in B
+  std::vector<ShapeKind> shape_kinds;
+  std::vector<double> shape_dims;  // 3n
+
+  std::size_t body_count() const { return ids.size(); }
+  bool lengths_agree() const {
+    const std::size_t n = ids.size();
+    return names.size() == n && masses.size() == n && inertia.size() == 6 * n &&
+           shape_kinds.size() == n && shape_dims.size() == 3 * n;
+  }
+  bool operator==(const SceneDescription&) const = default;
+};
+
+}  // namespace rigid::transport

@@ -1,0 +1,98 @@
+// Jacobi elliptic functions: identities, the ODE they solve, limits and special values.
+#include "physics/elliptic.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace rigid::physics {
+namespace {
+
+const double kParams[] = {0.0, 1e-12, 0.1, 0.5, 0.9, 0.999, 1.0 - 1e-12, 1.0};
+const double kArgs[] = {-7.3,   -0.5,   -0.0625, -1e-3, 0.0, 1e-6, 0.01,
+                        0.0625, 0.0626, 0.3,     1.0,   2.5, 10.0, 33.0};
+
+TEST(Jacobi, SatisfiesTheQuadraticIdentities) {
+  for (double m : kParams) {
+    for (double u : kArgs) {
+      const Jacobi e = jacobi(u, m);
+      EXPECT_NEAR(e.sn * e.sn + e.cn * e.cn, 1.0, 4e-16) << "m=" << m << " u=" << u;
+      EXPECT_NEAR(e.dn * e.dn + m * e.sn * e.sn, 1.0, 4e-16) << "m=" << m << " u=" << u;
+    }
+  }
+}
+
+// sn' = cn dn, cn' = -sn dn, dn' = -m sn cn, checked by a fourth-order central difference: this is
+// what pins down the series coefficients and the Landen recursion.
+TEST(Jacobi, SolvesItsDifferentialEquations) {
+  const double d = 1e-3;
+  for (double m : kParams) {
+    for (double u : kArgs) {
+      const auto diff = [&](auto f) {
+        return (-f(jacobi(u + 2 * d, m)) + 8 * f(jacobi(u + d, m)) - 8 * f(jacobi(u - d, m)) +
+                f(jacobi(u - 2 * d, m))) /
+               (12 * d);
+      };
+      const Jacobi e = jacobi(u, m);
+      EXPECT_NEAR(diff([](const Jacobi& j) { return j.sn; }), e.cn * e.dn, 1e-10) << m << " " << u;
+      EXPECT_NEAR(diff([](const Jacobi& j) { return j.cn; }), -e.sn * e.dn, 1e-10) << m << " " << u;
+      EXPECT_NEAR(diff([](const Jacobi& j) { return j.dn; }), -m * e.sn * e.cn, 1e-10)
+          << m << " " << u;
+    }
+  }
+}
+
+TEST(Jacobi, SeriesAndLandenAgreeAtTheirBoundary) {
+  const double below = kJacobiSeriesMax, above = std::nextafter(kJacobiSeriesMax, 1.0);
+  for (double m : kParams) {
+    const Jacobi a = jacobi(below, m), b = jacobi(above, m);
+    EXPECT_NEAR(a.sn, b.sn, 3e-16) << m;
+    EXPECT_NEAR(a.cn, b.cn, 3e-16) << m;
+    EXPECT_NEAR(a.dn, b.dn, 3e-16) << m;
+  }
+}
+
+TEST(Jacobi, ReducesToCircularAndHyperbolicFunctions) {
+  for (double u : kArgs) {
+    const Jacobi c = jacobi(u, 0.0);
+    EXPECT_NEAR(c.sn, std::sin(u), 1e-15);
+    EXPECT_NEAR(c.cn, std::cos(u), 1e-15);
+    EXPECT_EQ(c.dn, 1.0);
+    const Jacobi h = jacobi(u, 1.0);
+    EXPECT_NEAR(h.sn, std::tanh(u), 1e-15);
+    EXPECT_NEAR(h.cn, 1.0 / std::cosh(u), 1e-15);
+    EXPECT_NEAR(h.dn, 1.0 / std::cosh(u), 1e-15);
+  }
+}
+
+TEST(Jacobi, QuarterPeriodValues) {
+  // The lemniscatic case: K(1/2) = Gamma(1/4)^2 / (4 sqrt(pi)) = 1.8540746773013719.
+  EXPECT_NEAR(elliptic_k(0.5), 1.8540746773013719, 1e-15);
+  EXPECT_NEAR(elliptic_k(0.0), std::numbers::pi / 2, 1e-15);
+  for (double m : {0.1, 0.5, 0.9, 0.999999}) {
+    const double K = elliptic_k(m);
+    const Jacobi e = jacobi(K, m);
+    EXPECT_NEAR(e.sn, 1.0, 1e-14) << m;
+    EXPECT_NEAR(e.cn, 0.0, 1e-7) << m;  // cn ~ sqrt(1 - sn^2): a quadratic zero
+    EXPECT_NEAR(e.dn, std::sqrt(1.0 - m), 1e-9) << m;
+    const Jacobi p = jacobi(4 * K + 0.3, m), q = jacobi(0.3, m);  // period 4K
+    EXPECT_NEAR(p.sn, q.sn, 1e-13) << m;
+    EXPECT_NEAR(p.cn, q.cn, 1e-13) << m;
+  }
+}
+
+TEST(Jacobi, SeriesEvaluatorMatchesTheFunction) {
+  for (double m : kParams) {
+    const JacobiSeries s(m);
+    for (double u : {-0.0625, -0.01, 0.0, 0.003, 0.05}) {
+      const Jacobi a = s(u), b = jacobi(u, m);
+      EXPECT_EQ(a.sn, b.sn);
+      EXPECT_EQ(a.cn, b.cn);
+      EXPECT_EQ(a.dn, b.dn);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rigid::physics

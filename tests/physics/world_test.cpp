@@ -1,0 +1,332 @@
+// World: validation, the model each body compiles to, state in and out, frozen axes, kinematic
+// bodies, impulses, reset, determinism, and no allocation while stepping.
+#include "physics/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "test_util.hpp"
+
+// Counts allocations in this test binary, so a test can assert that stepping makes none.
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t n, std::align_val_t a) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  const std::size_t al = static_cast<std::size_t>(a);
+  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+
+namespace rigid::test {
+namespace {
+
+using physics::BodyModel;
+using physics::BodyState;
+using physics::Frame;
+using physics::LoadSpec;
+using physics::Mat3;
+using physics::SpecError;
+
+Mat3 rotated(const Vec3& I, const Quat& q) {
+  const Mat3 R = q.toRotationMatrix();
+  return R * I.asDiagonal() * R.transpose();
+}
+
+// Expects the spec to be rejected with a SpecError about `field` of body `body`.
+void expect_rejected(const WorldSpec& ws, int body, const std::string& field) {
+  try {
+    World w(ws);
+    ADD_FAILURE() << "accepted; expected an error on " << field;
+  } catch (const SpecError& e) {
+    EXPECT_EQ(e.body(), body) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(WorldSpec, RejectsWhatCannotBeSimulated) {
+  const WorldSpec good = one_body(body("a", {1, 2, 3}), 1e-3, "");
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].mass = -1;
+    expect_rejected(ws, 0, "mass");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].I_B = Vec3(1, 1, 3).asDiagonal();  // 1 + 1 < 3: no rigid body has these moments
+    expect_rejected(ws, 0, "inertia");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].I_B = Vec3(1, -1, 1).asDiagonal();
+    expect_rejected(ws, 0, "inertia");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].q_WB = Quat(0, 0, 0, 0);
+    expect_rejected(ws, 0, "orientation");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].w_WB.x() = std::nan("");
+    expect_rejected(ws, 0, "angular_velocity");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].linear_drag = -0.1;
+    expect_rejected(ws, 0, "linear_drag");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies[0].freeze_rotation = {true, false, false};
+    expect_rejected(ws, 0, "freeze_rotation");
+  }
+  {
+    WorldSpec ws = good;
+    ws.bodies.push_back(ws.bodies[0]);
+    expect_rejected(ws, 1, "name");
+  }
+  {
+    WorldSpec ws = good;
+    ws.integrator = "verlet";
+    expect_rejected(ws, -1, "integrator");
+  }
+  {
+    WorldSpec ws = good;
+    ws.dt = 0;
+    expect_rejected(ws, -1, "dt");
+  }
+  {
+    WorldSpec ws = good;
+    ws.loads.push_back(LoadSpec{.body = 3});
+    try {
+      World w(ws);
+      ADD_FAILURE();
+    } catch (const SpecError& e) {
+      EXPECT_EQ(e.load(), 0);
+    }
+  }
+}
+
+TEST(WorldSpec, NormalisesANonUnitOrientation) {
+  WorldSpec ws = one_body(body("a", {1, 2, 3}), 1e-3, "");
+  ws.bodies[0].q_WB = Quat(2, 0, 0, 0);
+  World w(ws);
+  EXPECT_NEAR(w.state(0).q_WB.norm(), 1.0, 1e-15);
+}
+
+TEST(WorldModel, EachBodyCompilesToTheCheapestExactModel) {
+  WorldSpec ws;
+  ws.bodies.push_back(body("sphere", {2, 2, 2}));
+  ws.bodies.push_back(body("oblate", {1, 1, 1.5}));
+  ws.bodies.push_back(body("prolate", {1, 2, 2}));
+  ws.bodies.push_back(body("general", {1, 2, 2.5}));
+  BodySpec p = body("particle", {1, 1, 1});
+  p.has_inertia = false;
+  ws.bodies.push_back(p);
+  BodySpec locked = body("locked", {1, 2, 2.5});
+  locked.freeze_rotation = {true, true, true};
+  ws.bodies.push_back(locked);
+  BodySpec hinge = body("hinge", {1, 2, 2.5});
+  hinge.freeze_rotation = {true, true, false};
+  ws.bodies.push_back(hinge);
+  BodySpec kin = body("kinematic", {1, 2, 2.5}, {0, 0, 1});
+  kin.kinematic = true;
+  ws.bodies.push_back(kin);
+  World w(ws);
+  EXPECT_EQ(w.body_model(0), BodyModel::kIsotropic);
+  EXPECT_EQ(w.body_model(1), BodyModel::kAxisymmetric);
+  EXPECT_EQ(w.body_model(2), BodyModel::kAxisymmetric);
+  EXPECT_EQ(w.body_model(3), BodyModel::kGeneral);
+  EXPECT_EQ(w.body_model(4), BodyModel::kPoint);
+  EXPECT_EQ(w.body_model(5), BodyModel::kPoint);
+  EXPECT_EQ(w.body_model(6), BodyModel::kIsotropic);
+  EXPECT_EQ(w.body_model(7), BodyModel::kIsotropic);
+  EXPECT_EQ(w.find_body("prolate"), 2);
+  EXPECT_EQ(w.find_body("nope"), -1);
+}
+
+// A full tensor is diagonalised at load and its principal frame kept: the state reported in B
+// is the state given in B, for every model.
+TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
+  const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  WorldSpec ws;
+  int k = 0;
+  for (const Vec3& I : {Vec3(2, 2, 2), Vec3(1, 1, 1.5), Vec3(1, 2, 2), Vec3(1, 2, 2.5)}) {
+    BodySpec b = body("b" + std::to_string(k++), I);
+    b.I_B = rotated(I, tilt);
+    ws.bodies.push_back(b);
+  }
+  World w(ws);
+  const BodyState in{{1, -2, 3},
+                     Quat(Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized())),
+                     {0.5, 0.25, -1},
+                     {0.3, -0.2, 0.9}};
+  for (int i = 0; i < w.body_count(); ++i) {
+    w.set_state(i, in);
+    const BodyState out = w.state(i);
+    EXPECT_LT((out.p_WBo - in.p_WBo).norm(), 1e-15);
+    EXPECT_LT(angle_between(out.q_WB, in.q_WB), 1e-15);
+    EXPECT_LT((out.v_WBo - in.v_WBo).norm(), 1e-15);
+    EXPECT_LT((out.w_WB - in.w_WB).norm(), 1e-15);
+    // L = R_WB I_B R_WB^T w in W, whatever frame the model integrates in.
+    const Mat3 R = in.q_WB.toRotationMatrix();
+    EXPECT_LT((w.angular_momentum_W(i) - R * w.body_spec(i).I_B * R.transpose() * in.w_WB).norm(),
+              1e-14);
+  }
+}
+
+TEST(WorldModel, KinematicBodiesMoveWithTheirVelocitiesAndIgnoreForces) {
+  BodySpec b = body("k", {1, 2, 3}, {0, 0, 2});
+  b.kinematic = true;
+  b.use_gravity = true;
+  b.v_WBo = {1, 0, 0};
+  WorldSpec ws = one_body(b, 0.01, "");
+  ws.g_W = {0, 0, -9.81};
+  ws.loads.push_back(LoadSpec{.body = 0, .force = {5, 5, 5}, .p_BoQ_B = {1, 0, 0}});
+  World w(ws);
+  w.step(100);
+  const BodyState s = w.state(0);
+  EXPECT_NEAR(s.p_WBo.x(), 1.0, 1e-14);
+  EXPECT_NEAR(s.p_WBo.z(), 0.0, 1e-14);
+  EXPECT_LT(angle_between(s.q_WB, Quat(Eigen::AngleAxisd(2.0, Vec3::UnitZ()))), 1e-14);
+}
+
+TEST(WorldModel, FrozenTranslationAxesHoldStill) {
+  BodySpec b = body("f", {1, 2, 3});
+  b.use_gravity = true;
+  b.freeze_translation = {false, false, true};
+  b.v_WBo = {1, 2, 3};
+  WorldSpec ws = one_body(b, 0.01, "");
+  ws.g_W = {0, 0, -9.81};
+  World w(ws);
+  w.step(100);
+  EXPECT_EQ(w.state(0).p_WBo.z(), 0.0);
+  EXPECT_EQ(w.state(0).v_WBo.z(), 0.0);
+  EXPECT_NEAR(w.state(0).p_WBo.y(), 2.0, 1e-13);
+}
+
+// Two frozen rotation axes leave a hinge about the third world axis: w stays on it and grows at
+// (tau . e) / I_e whatever the other torque components.
+TEST(WorldModel, AHingeTurnsOnlyAboutItsFreeAxis) {
+  const Quat tilt(Eigen::AngleAxisd(0.4, Vec3(1, 1, 0).normalized()));
+  BodySpec b = body("h", {1, 2, 3});
+  b.I_B = rotated({1, 2, 3}, tilt);
+  b.q_WB = tilt.conjugate();  // so that the body's principal axes are the world's at t = 0
+  b.freeze_rotation = {true, true, false};
+  WorldSpec ws = one_body(b, 1e-3, "");
+  World w(ws);
+  w.add_torque(0, {5, -7, 3}, Frame::kWorld);
+  w.step(1000);
+  const BodyState s = w.state(0);
+  EXPECT_NEAR(s.w_WB.x(), 0.0, 1e-13);
+  EXPECT_NEAR(s.w_WB.y(), 0.0, 1e-13);
+  EXPECT_NEAR(s.w_WB.z(), 3.0 / 3.0 * 1.0, 1e-12);  // I_zz = 3 in W, for 1 s
+}
+
+TEST(WorldModel, AnImpulseChangesMomentaAtTheNextStep) {
+  WorldSpec ws = one_body(body("a", {1, 2, 3}), 1e-9, "rk4");
+  ws.bodies[0].mass = 2.0;
+  World w(ws);
+  w.apply_impulse(0, {0, 4, 0}, {1, 0, 0}, Frame::kWorld);
+  EXPECT_EQ(w.state(0).v_WBo, Vec3::Zero());
+  w.step();
+  const BodyState s = w.state(0);
+  EXPECT_NEAR(s.v_WBo.y(), 2.0, 1e-12);
+  EXPECT_NEAR(s.w_WB.z(), 4.0 / 3.0, 1e-8);  // (r x J)_z / I_zz
+}
+
+TEST(WorldModel, ResetRestoresTheInitialState) {
+  WorldSpec ws = one_body(body("a", {1, 2, 3}, {1, 2, 3}), 1e-3, "");
+  World w(ws);
+  const BodyState s0 = w.state(0);
+  w.add_force(0, {1, 0, 0}, {0, 1, 0}, Frame::kBody);
+  w.step(100);
+  EXPECT_GT(angle_between(w.state(0).q_WB, s0.q_WB), 0.1);
+  EXPECT_NEAR(w.time(), 0.1, 1e-15);
+  w.reset();
+  EXPECT_EQ(w.time(), 0.0);
+  EXPECT_LT(angle_between(w.state(0).q_WB, s0.q_WB), 1e-15);
+  EXPECT_LT((w.state(0).w_WB - s0.w_WB).norm(), 1e-15);
+  w.step(100);  // and the applied force is gone: torque-free motion again
+  World fresh(ws);
+  fresh.step(100);
+  EXPECT_LT(angle_between(w.state(0).q_WB, fresh.state(0).q_WB), 1e-14);
+}
+
+WorldSpec busy_world(const std::string& integrator) {
+  WorldSpec ws;
+  ws.dt = 1e-3;
+  ws.integrator = integrator;
+  int k = 0;
+  for (const Vec3& I : {Vec3(2, 2, 2), Vec3(1, 1, 1.5), Vec3(1, 2, 2.5), Vec3(1, 2, 2.5)}) {
+    BodySpec b = body("b" + std::to_string(k), I, {0.3 * k, 2, -1});
+    b.use_gravity = true;
+    b.linear_drag = 0.1 * k;
+    b.angular_drag = 0.05 * k;
+    ws.bodies.push_back(b);
+    ws.loads.push_back(LoadSpec{.body = k,
+                                .force = {0, 1, 0},
+                                .p_BoQ_B = {0.2, 0, 0},
+                                .frame = k % 2 ? Frame::kBody : Frame::kWorld});
+    ++k;
+  }
+  BodySpec p = body("p", {1, 1, 1}, Vec3::Zero());
+  p.has_inertia = false;
+  ws.bodies.push_back(p);
+  return ws;
+}
+
+TEST(WorldStep, IsBitIdenticalForIdenticalInputs) {
+  for (const auto& info : physics::all_integrators()) {
+    const WorldSpec ws = busy_world(std::string(info.name));
+    World a(ws), b(ws);
+    a.step(500);
+    World c = a;  // a copy continues identically too
+    a.step(500);
+    b.step(1000);
+    c.step(500);
+    for (int i = 0; i < a.body_count(); ++i) {
+      EXPECT_EQ(a.state(i).q_WB.coeffs(), b.state(i).q_WB.coeffs()) << info.name;
+      EXPECT_EQ(a.state(i).p_WBo, b.state(i).p_WBo) << info.name;
+      EXPECT_EQ(a.state(i).w_WB, c.state(i).w_WB) << info.name;
+    }
+  }
+}
+
+TEST(WorldStep, AllocatesNothing) {
+  for (const auto& info : physics::all_integrators()) {
+    World w(busy_world(std::string(info.name)));
+    w.step(2);
+    const long before = g_allocations.load();
+    w.clear_applied();
+    w.add_force(1, {1, 2, 3}, {0, 0, 1}, Frame::kBody);
+    w.apply_impulse(2, {0, 0, 1}, {1, 0, 0}, Frame::kWorld);
+    w.step(100);
+    EXPECT_EQ(g_allocations.load(), before) << info.name;
+  }
+}
+
+}  // namespace
+}  // namespace rigid::test
