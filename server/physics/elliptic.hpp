@@ -20,17 +20,22 @@ struct Jacobi {
 inline constexpr double kJacobiSeriesMax = 1.0 / 16.0;
 
 // The series coefficients for one m, so that several arguments with the same m (the nodes of one
-// free-rotor step) pay for the polynomials in m once.
+// free-rotor step) pay for the polynomials in m once. Only as many terms as arguments up to
+// u_max need are formed: a free-rotor step at dt = 1 ms has |u| ~ 1e-3 and needs terms to u^5.
 class JacobiSeries {
  public:
-  explicit JacobiSeries(double m);
-  // Valid for |u| <= kJacobiSeriesMax; truncation error < 1e-20.
+  explicit JacobiSeries(double m, double u_max = kJacobiSeriesMax);
+  // Valid for |u| <= u_max (<= kJacobiSeriesMax); truncation error < 1e-19 (absolute).
   Jacobi operator()(double u) const;
+  // sn, cn - 1, dn - 1: the departures from 1 to full relative accuracy, for updates of the form
+  // x + (increment) whose round-off must stay relative to the increment.
+  Jacobi departures(double u) const;
 
  private:
-  double s_[7];  // sn: coefficient of u^(2i+1)
-  double c_[8];  // cn: coefficient of u^(2i)
-  double d_[8];  // dn: coefficient of u^(2i)
+  int ns_ = 7, nc_ = 8;  // terms used
+  double s_[7];          // sn: coefficient of u^(2i+1)
+  double c_[8];          // cn: coefficient of u^(2i)
+  double d_[8];          // dn: coefficient of u^(2i)
 };
 
 // sn, cn, dn(u | m) for any real u and m in [0, 1].

@@ -22,9 +22,9 @@ namespace rigid::physics {
 // Orientation: R_WP(t) = Q Rz(psi(t)) P(m(t)) with Q constant and P(m) the minimal rotation taking
 // m/G to s e3. Then R(t + h) = R(t) P(m0)^T Rz(dpsi) P(m1): the increment needs only m0, m1 and
 // dpsi, and it conserves L_W = R m exactly whatever dpsi is. From R^T R' = [w] with w = J^-1 m one
-// finds psi' = s 2T/G - (m1 m2' - m2 m1') / (G (G + s m3)) = s (2T/G - a b lambda dn / (G (G + c
-// dn))) so  dpsi = s (2T h / G - (a b / G) * integral_{tau0}^{tau0 + lambda h} dn / (G + c dn)
-// dtau).
+// finds
+//   psi' = s 2T/G - (m1 m2' - m2 m1') / (G (G + s m3)) = s (2T/G - a b lambda dn / (G (G + c dn))),
+//   dpsi = s (2T h / G - (a b / G) * integral over [tau0, tau0 + lambda h] of dn / (G + c dn)).
 
 RotorInertia::RotorInertia(const Vec3& I_in) : I(I_in) {
   const double I1 = I.x(), I2 = I.y(), I3 = I.z();
@@ -32,8 +32,13 @@ RotorInertia::RotorInertia(const Vec3& I_in) : I(I_in) {
   k3 = 1.0 - I2 / I3;
   rA = I1 * (I3 - I2) / (I2 * (I3 - I1));
   rhoA = I3 * (I2 - I1) / (I2 * (I3 - I1));
-  isrA = 1.0 / std::sqrt(rA);
-  isrB = 1.0 / std::sqrt(rhoA);
+  srA = std::sqrt(rA);
+  srB = std::sqrt(rhoA);
+  isrA = 1.0 / srA;
+  isrB = 1.0 / srB;
+  qA = rhoA / rA;
+  qB = rA / rhoA;
+  inv_I = I.cwiseInverse();
   // Case A: lambda = c (J3 - J2) / (J2 J3 sqrt(r)); case B: J = (I3, I2, I1), r_B = rhoA.
   ellA = (I3 - I2) / (I2 * I3) * isrA;
   ellB = (I1 - I2) / (I2 * I1) * isrB;
@@ -83,54 +88,52 @@ void plan_core(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p, do
   if (g2 == 0.0) return;  // p.still stays true
   p.still = false;
   p.case_b = J.k1 * m1 * m1 + J.k3 * m3 * m3 < 0.0;
-  double r, rho, isr, ell, x1, x2, x3, j1, j2, j3;
+  // Per case: r, rho, 1/sqrt(r), sqrt(r), rho/r, the lambda factor, 1/J in case coordinates.
+  double r, rho, isr, sr, q, ell, x1, x2, x3, ij1, ij2, ij3;
   if (p.case_b) {
-    r = J.rhoA, rho = J.rA, isr = J.isrB, ell = J.ellB;
+    r = J.rhoA, rho = J.rA, isr = J.isrB, sr = J.srB, q = J.qB, ell = J.ellB;
     x1 = m3, x2 = -m2, x3 = m1;
-    j1 = J.I.z(), j2 = J.I.y(), j3 = J.I.x();
+    ij1 = J.inv_I.z(), ij2 = J.inv_I.y(), ij3 = J.inv_I.x();
   } else {
-    r = J.rA, rho = J.rhoA, isr = J.isrA, ell = J.ellA;
+    r = J.rA, rho = J.rhoA, isr = J.isrA, sr = J.srA, q = J.qA, ell = J.ellA;
     x1 = m1, x2 = m2, x3 = m3;
-    j1 = J.I.x(), j2 = J.I.y(), j3 = J.I.z();
+    ij1 = J.inv_I.x(), ij2 = J.inv_I.y(), ij3 = J.inv_I.z();
   }
   const double a2 = x1 * x1 + r * x2 * x2;
   const double c2 = x3 * x3 + rho * x2 * x2;
   p.a = std::sqrt(a2);
   p.c = std::sqrt(c2);
-  p.b = p.a * isr;
+  p.G = std::sqrt(g2);
+  // Three divisions in all; b, k^2, k'^2 and 2T come from these and per-body constants.
   p.ia = p.a > 0.0 ? 1.0 / p.a : 0.0;
-  p.ib = p.b > 0.0 ? 1.0 / p.b : 0.0;
   p.ic = 1.0 / p.c;  // c > 0 whenever m != 0 (see the case analysis in the comment above)
+  const double iG = 1.0 / p.G;
+  p.b = p.a * isr;
+  p.ib = p.ia * sr;
   p.cn_bias = p.a > 0.0 ? 0.0 : 1.0;  // a == 0: pure spin, any phase; take cn = 1
   p.s = x3 >= 0.0 ? 1.0 : -1.0;
-  p.m = std::min(1.0, rho * a2 / (r * c2));
-  // k'^2 = (r c^2 - rho a^2) / (r c^2) = (r x3^2 - rho x1^2) / (r c^2): the only cancellation left
+  const double ic2 = p.ic * p.ic;
+  p.m = std::min(1.0, q * a2 * ic2);
+  // k'^2 = (r c^2 - rho a^2) / (r c^2) = (x3^2 - (rho/r) x1^2) / c^2: the only cancellation left
   // is the physical one, the distance of the motion from the separatrix.
-  p.mc = std::max(0.0, (r * x3 * x3 - rho * x1 * x1) / (r * c2));
-  p.G = std::sqrt(g2);
-  const double two_t = x1 * x1 / j1 + x2 * x2 / j2 + x3 * x3 / j3;
-  p.lin = two_t * h / p.G;
-  p.abG = p.a * p.b / p.G;
+  p.mc = std::max(0.0, (x3 * x3 - q * x1 * x1) * ic2);
+  const double two_t = x1 * x1 * ij1 + x2 * x2 * ij2 + x3 * x3 * ij3;
+  p.lin = two_t * h * iG;
+  p.abG2 = p.a * p.b * iG * iG;
+  p.cG = p.c * iG;
   X = p.c * ell * h;
   if (std::abs(X) > kMaxGL4) return;  // a long step never uses the addition theorem
-  const Jacobi e = JacobiSeries(p.m)(X);
-  p.S = e.sn, p.C = e.cn, p.D = e.dn;
+  const Jacobi e = JacobiSeries(p.m, std::abs(X)).departures(X);
+  p.S = e.sn, p.Cm1 = e.cn, p.Dm1 = e.dn;
+  p.C = 1.0 + e.cn, p.D = 1.0 + e.dn;
   p.mS2 = p.m * e.sn * e.sn;
-  p.mSC = p.m * e.sn * e.cn;
+  p.mSC = p.m * e.sn * p.C;
 }
 
-// dn(tau0 + x) / (G + c dn(tau0 + x)) from the phase (s0, c0, d0) and sn, cn, dn of x, by the
-// addition theorem dn(u + v) = (dn u dn v - m sn u cn u sn v cn v) / (1 - m sn^2 u sn^2 v).
-inline double psi_integrand(double G, double c, double s0, double c0, double d0, double Dx,
-                            double mSCx, double mS2x) {
-  const double num = d0 * Dx - mSCx * s0 * c0;
-  const double den = 1.0 - mS2x * s0 * s0;
-  return num / (G * den + c * num);
-}
-
-// dn(u) / (G + c dn(u)) at a phase u given directly.
-inline double psi_integrand(double G, double c, double dn) {
-  return dn / (G + c * dn);
+// The integrand in dimensionless form: G dn / (G + c dn) = dn / (1 + (c/G) dn), so that
+// dpsi = s (2T h / G - (a b / G^2) * its integral over the phase increment).
+inline double psi_integrand(double cG, double dn) {
+  return dn / (1.0 + cG * dn);
 }
 
 // The minimal-rotation quaternion taking m/G to s e3: (G + s m3, s m2, -s m1, 0) normalised,
@@ -141,20 +144,19 @@ inline Quat to_axis(double G, double sm3, double sm2, double sm1) {
   return Quat(w * inv, sm2 * inv, -sm1 * inv, 0.0);
 }
 
-// Shared tail of a step: the new momentum from the new phase (sn1, cn1, dn1), the orientation
-// increment from dpsi. `integral` is the quadrature of dn / (G + c dn) over the phase increment.
-inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double sn1, double cn1,
-                        double dn1, double integral, Vec3& mP, Quat& dq) {
-  const double y1 = p.s * p.a * cn1, y2 = p.b * sn1, y3 = p.s * p.c * dn1;
-
-  const double dpsi = p.s * (p.lin - p.abG * integral);
+// Shared tail of a step: the orientation increment from the phases at both ends and dpsi, the
+// new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `integral` is the quadrature
+// of dn / (1 + (c/G) dn) over the phase increment.
+inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double y1, double y2,
+                        double y3, double integral, Vec3& mP, Quat& dq) {
+  const double dpsi = p.s * (p.lin - p.abG2 * integral);
   double cz, sincz;
   cos_sinc(0.5 * dpsi, cz, sincz);
   const double sz = 0.5 * dpsi * sincz;
 
   // m at the start, rebuilt from the projected phase: s m1 = a cn, s m2 = s b sn, s m3 = c dn.
   const Quat p0 = to_axis(p.G, p.c * d0, p.s * p.b * s0, p.a * c0);
-  const Quat p1 = to_axis(p.G, p.c * dn1, p.s * y2, p.s * y1);
+  const Quat p1 = to_axis(p.G, p.s * y3, p.s * y2, p.s * y1);
   // u = Rz(dpsi) * p1, with p1.z() == 0.
   const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
   const Quat d = p0.conjugate() * u;
@@ -175,9 +177,12 @@ inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, dou
 inline void phase_of(const RotorPlan& p, double x1, double x2, double& s0, double& c0, double& d0) {
   s0 = x2 * p.ib;
   c0 = p.s * x1 * p.ia + p.cn_bias;
-  const double inv = 1.0 / std::sqrt(s0 * s0 + c0 * c0);
-  s0 *= inv;
-  c0 *= inv;
+  // One Newton step towards s0^2 + c0^2 = 1: the error is round-off (~1e-16), so this lands on
+  // the curve to round-off without a square root; a state set from outside takes the slow path.
+  const double n2 = s0 * s0 + c0 * c0;
+  const double f = std::abs(n2 - 1.0) < 1e-8 ? 1.5 - 0.5 * n2 : 1.0 / std::sqrt(n2);
+  s0 *= f;
+  c0 *= f;
   d0 = std::sqrt(p.mc + p.m * c0 * c0);
 }
 
@@ -198,7 +203,7 @@ void make_rotor_plan(const RotorInertia& J, const Vec3& mP, double h, RotorPlan&
   if (p.still) return;
   const Rule* rule = single_panel_rule(std::abs(X));
   if (rule == nullptr) return;  // p.n == 0: a long step, see advance_long
-  const JacobiSeries series(p.m);
+  const JacobiSeries series(p.m, std::abs(X));
   p.n = rule->n;
   for (int i = 0; i < rule->n; ++i) {
     const Jacobi e = series(0.5 * X * (1.0 + rule->x[i]));
@@ -224,46 +229,65 @@ void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP,
   for (int k = 0; k < panels; ++k) {
     for (int i = 0; i < kGL6.n; ++i) {
       const double x = width * (k + 0.5 * (1.0 + kGL6.x[i]));
-      integral += 0.5 * width * kGL6.w[i] * psi_integrand(p.G, p.c, jacobi(tau0 + x, p.m, p.mc).dn);
+      integral += 0.5 * width * kGL6.w[i] * psi_integrand(p.cG, jacobi(tau0 + x, p.m, p.mc).dn);
     }
   }
   const Jacobi e = jacobi(tau0 + p.X, p.m, p.mc);
-  finish_step(p, s0, c0, d0, e.sn, e.cn, e.dn, integral, mP, dq);
+  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, integral, mP, dq);
 }
 
 }  // namespace
 
-void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq) {
+void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
   if (p.still) {
     dq = Quat::Identity();
     return;
   }
   double x1, x2, x3;
   case_coords(p, mP, x1, x2, x3);
-  (void)x3;
   double s0, c0, d0;
   phase_of(p, x1, x2, s0, c0, d0);
   if (p.n == 0) {
     advance_long(p, s0, c0, d0, mP, dq);
     return;
   }
-  double integral = 0.0;
+  // Nodes at tau0 + x_i by the addition theorem, dn(u + v) = (dn u dn v - m sn u cn u sn v cn v)
+  // / (1 - m sn^2 u sn^2 v). Each term is num_i / (den_i + (c/G) num_i), summed as one fraction:
+  // one division instead of n (the denominators all lie in [0.99, 2]).
+  double top = 0.0, bottom = 1.0;
+  const double sc0 = s0 * c0, ss0 = s0 * s0;
   for (int i = 0; i < p.n; ++i) {
-    integral += p.w[i] * psi_integrand(p.G, p.c, s0, c0, d0, p.Dn[i], p.mSCn[i], p.mS2n[i]);
+    const double num = d0 * p.Dn[i] - p.mSCn[i] * sc0;
+    const double den = (1.0 - p.mS2n[i] * ss0) + p.cG * num;
+    top = top * den + p.w[i] * num * bottom;
+    bottom *= den;
   }
+  const double integral = top / bottom;
   // The addition theorem (DLMF 22.8.1-3). Its denominator 1 - m sn0^2 S^2 stays >= 1 - S^2 >
   // 0.997 on this path (|X| <= 0.05), so it cannot cancel.
-  const double inv = 1.0 / (1.0 - p.mS2 * s0 * s0);
-  const double sn1 = (s0 * p.C * p.D + p.S * c0 * d0) * inv;
-  const double cn1 = (c0 * p.C - s0 * d0 * p.S * p.D) * inv;
-  const double dn1 = (d0 * p.D - p.mSC * s0 * c0) * inv;
-  finish_step(p, s0, c0, d0, sn1, cn1, dn1, integral, mP, dq);
+  const double e = p.mS2 * ss0;
+  const double inv = 1.0 / (1.0 - e);
+  if (update == RotorUpdate::kPinned) {
+    const double sn1 = (s0 * p.C * p.D + p.S * c0 * d0) * inv;
+    const double cn1 = (c0 * p.C - s0 * d0 * p.S * p.D) * inv;
+    const double dn1 = (d0 * p.D - p.mSC * sc0) * inv;
+    finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, integral, mP, dq);
+  } else {
+    // The same theorem written for the departures sn1 - sn0, ..., each numerator made of small
+    // terms only: C D - 1 + e = Cm1 + Dm1 + Cm1 Dm1 + e, with e = m sn0^2 S^2 = 1 - den.
+    const double cdm1 = p.Cm1 + p.Dm1 + p.Cm1 * p.Dm1;
+    const double ds = (s0 * (cdm1 + e) + p.S * c0 * d0) * inv;
+    const double dc = (c0 * (p.Cm1 + e) - s0 * d0 * p.S * p.D) * inv;
+    const double dd = (d0 * (p.Dm1 + e) - p.mSC * sc0) * inv;
+    finish_step(p, s0, c0, d0, x1 + p.s * p.a * dc, x2 + p.b * ds, x3 + p.s * p.c * dd, integral,
+                mP, dq);
+  }
 }
 
 void free_rotor_step(const RotorInertia& J, Vec3& mP, double h, Quat& dq) {
   RotorPlan p;
   make_rotor_plan(J, mP, h, p);
-  advance_rotor(p, mP, dq);
+  advance_rotor(p, mP, dq, RotorUpdate::kIncrement);
 }
 
 void make_axisym_plan(double A, double C, const Vec3& mP, double h, AxisymPlan& p) {

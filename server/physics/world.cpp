@@ -72,7 +72,7 @@ void build_trans_table(Model& m) {
     row[kFull] = trans_coef(g, m.dt);
     row[kHalf] = trans_coef(g, 0.5 * m.dt);
     row[kStage0] = trans_coef(g, Composition::kStage[0] * m.dt);
-    row[kStage1] = trans_coef(g, Composition::kStage[2] * m.dt);
+    row[kStage1] = trans_coef(g, Composition::kStage[Composition::kStages / 2] * m.dt);
   }
 }
 
