@@ -83,10 +83,13 @@ const Rule* single_panel_rule(double absX) {
 void plan_core(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p, double& X) {
   const double m1 = mP.x(), m2 = mP.y(), m3 = mP.z();
   const double g2 = m1 * m1 + m2 * m2 + m3 * m3;
-  p = RotorPlan{};
+  // Every field the step reads is assigned below (no zero-fill of the whole plan: its node
+  // arrays are written by make_rotor_plan for the nodes in use only).
   X = 0.0;
-  if (g2 == 0.0) return;  // p.still stays true
-  p.still = false;
+  p.n = 0;
+  p.X = 0.0;
+  p.still = g2 == 0.0;
+  if (p.still) return;
   p.case_b = J.k1 * m1 * m1 + J.k3 * m3 * m3 < 0.0;
   // Per case: r, rho, 1/sqrt(r), sqrt(r), rho/r, the lambda factor, 1/J in case coordinates.
   double r, rho, isr, sr, q, ell, x1, x2, x3, ij1, ij2, ij3;
@@ -148,15 +151,18 @@ inline Quat to_axis(double G, double sm3, double sm2, double sm1) {
 // new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `integral` is the quadrature
 // of dn / (1 + (c/G) dn) over the phase increment.
 inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double y1, double y2,
-                        double y3, double integral, Vec3& mP, Quat& dq) {
+                        double y3, double integral, Vec3& mP, Quat& dq, Quat* axis) {
   const double dpsi = p.s * (p.lin - p.abG2 * integral);
   double cz, sincz;
   cos_sinc(0.5 * dpsi, cz, sincz);
   const double sz = 0.5 * dpsi * sincz;
 
-  // m at the start, rebuilt from the projected phase: s m1 = a cn, s m2 = s b sn, s m3 = c dn.
-  const Quat p0 = to_axis(p.G, p.c * d0, p.s * p.b * s0, p.a * c0);
+  // m at the start, carried from the last step or rebuilt from the projected phase:
+  // s m1 = a cn, s m2 = s b sn, s m3 = c dn.
+  const Quat p0 =
+      axis != nullptr && axis->w() > 0.0 ? *axis : to_axis(p.G, p.c * d0, p.s * p.b * s0, p.a * c0);
   const Quat p1 = to_axis(p.G, p.s * y3, p.s * y2, p.s * y1);
+  if (axis != nullptr) *axis = p1;
   // u = Rz(dpsi) * p1, with p1.z() == 0.
   const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
   const Quat d = p0.conjugate() * u;
@@ -221,7 +227,8 @@ namespace {
 // separatrix: 2e-9 lost in one 4 s step of the racket flip), so the phase is taken explicitly,
 // tau0 = F(am | m), and the functions are evaluated at tau0 + x directly. psi: panels of width
 // <= kPanel with the 6-point rule.
-void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq) {
+void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq,
+                  Quat* axis) {
   const double tau0 = elliptic_f(std::atan2(s0, c0), p.m, p.mc);
   const int panels = static_cast<int>(std::ceil(std::abs(p.X) / kPanel));
   const double width = p.X / panels;
@@ -233,12 +240,13 @@ void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP,
     }
   }
   const Jacobi e = jacobi(tau0 + p.X, p.m, p.mc);
-  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, integral, mP, dq);
+  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, integral, mP, dq,
+              axis);
 }
 
 }  // namespace
 
-void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
+void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Quat* axis) {
   if (p.still) {
     dq = Quat::Identity();
     return;
@@ -248,7 +256,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
   double s0, c0, d0;
   phase_of(p, x1, x2, s0, c0, d0);
   if (p.n == 0) {
-    advance_long(p, s0, c0, d0, mP, dq);
+    advance_long(p, s0, c0, d0, mP, dq, axis);
     return;
   }
   // Nodes at tau0 + x_i by the addition theorem, dn(u + v) = (dn u dn v - m sn u cn u sn v cn v)
@@ -271,7 +279,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
     const double sn1 = (s0 * p.C * p.D + p.S * c0 * d0) * inv;
     const double cn1 = (c0 * p.C - s0 * d0 * p.S * p.D) * inv;
     const double dn1 = (d0 * p.D - p.mSC * sc0) * inv;
-    finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, integral, mP, dq);
+    finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, integral, mP, dq, axis);
   } else {
     // The same theorem written for the departures sn1 - sn0, ..., each numerator made of small
     // terms only: C D - 1 + e = Cm1 + Dm1 + Cm1 Dm1 + e, with e = m sn0^2 S^2 = 1 - den.
@@ -280,7 +288,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
     const double dc = (c0 * (p.Cm1 + e) - s0 * d0 * p.S * p.D) * inv;
     const double dd = (d0 * (p.Dm1 + e) - p.mSC * sc0) * inv;
     finish_step(p, s0, c0, d0, x1 + p.s * p.a * dc, x2 + p.b * ds, x3 + p.s * p.c * dd, integral,
-                mP, dq);
+                mP, dq, axis);
   }
 }
 

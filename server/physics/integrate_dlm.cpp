@@ -43,22 +43,22 @@ void dlm_group(G& g, const Model& m) {
     if constexpr (kRotates) rate = g.rot[i].drag_rates();
     const auto kick_all = [&] {
       kick(half, lin.accel(L.force_W(s.q)), s.v);
-      if constexpr (kRotates) kick_angular(g.rot[i].alpha(L.torque_P(s.q)), rate, 0.5 * h, s.w);
+      if constexpr (kRotates) {
+        kick_angular(g.rot[i].spin_rate(L.torque_P(s.q)), rate, 0.5 * h, s.spin);
+      }
     };
     kick_all();
     s.x += h * s.v;
     if constexpr (kRotates) {
       const auto& rot = g.rot[i];
       if constexpr (std::is_same_v<std::decay_t<decltype(rot)>, DiagRot>) {
-        Vec3 mom = rot.I.cwiseProduct(s.w);
-        axis_rotation(0, 0.5 * h, rot.inv_I, mom, s.q);
-        axis_rotation(1, 0.5 * h, rot.inv_I, mom, s.q);
-        axis_rotation(2, h, rot.inv_I, mom, s.q);
-        axis_rotation(1, 0.5 * h, rot.inv_I, mom, s.q);
-        axis_rotation(0, 0.5 * h, rot.inv_I, mom, s.q);
-        s.w = rot.inv_I.cwiseProduct(mom);
+        axis_rotation(0, 0.5 * h, rot.inv_I, s.spin, s.q);
+        axis_rotation(1, 0.5 * h, rot.inv_I, s.spin, s.q);
+        axis_rotation(2, h, rot.inv_I, s.spin, s.q);
+        axis_rotation(1, 0.5 * h, rot.inv_I, s.spin, s.q);
+        axis_rotation(0, 0.5 * h, rot.inv_I, s.spin, s.q);
       } else {
-        s.q = s.q * quat_exp(h * s.w);  // isotropic: the free rotor is exactly this
+        s.q = s.q * quat_exp(h * s.spin);  // isotropic: the free rotor is exactly this
       }
       renormalize(s.q);
     }

@@ -21,39 +21,32 @@ namespace {
 // Exact rotation over s, no cache.
 inline void drift(IsoGroup& g, int i, double s) {
   Motion& b = g.motion[i];
-  b.q = b.q * quat_exp(s * b.w);
+  b.q = b.q * quat_exp(s * b.spin);
   renormalize(b.q);
 }
 inline void drift(AxiGroup& g, int i, double s) {
   Motion& b = g.motion[i];
   const DiagRot& r = g.rot[i];
-  Vec3 mom = r.I.cwiseProduct(b.w);
   AxisymPlan p;
-  make_axisym_plan(r.I.x(), r.I.z(), mom, s, p);
+  make_axisym_plan(r.I.x(), r.I.z(), b.spin, s, p);
   Quat dq;
-  advance_axisym(p, mom, dq);
+  advance_axisym(p, b.spin, dq);
   b.q = b.q * dq;
   renormalize(b.q);
-  b.w = mom.cwiseQuotient(r.I);  // unbiased, see the general case
 }
 inline void drift(GenGroup& g, int i, double s) {
   Motion& b = g.motion[i];
-  const DiagRot& r = g.rot[i];
-  Vec3 mom = r.I.cwiseProduct(b.w);
   Quat dq;
-  free_rotor_step(g.rotor[i], mom, s, dq);
+  free_rotor_step(g.rotor[i], b.spin, s, dq);
   b.q = b.q * dq;
   renormalize(b.q);
-  // Divide rather than multiply by the rounded 1/I: I * (1/I) != 1 is a fixed bias per axis that
-  // every step would apply again; the rounding of (I w) / I is unbiased.
-  b.w = mom.cwiseQuotient(r.I);
 }
 
 // Exact rotation over the model's dt, reusing the cached plan while the momentum is untouched.
 inline void drift_cached(IsoGroup& g, int i, double h) {
   Motion& b = g.motion[i];
   if (!g.dq_ok[i]) {
-    g.dq[i] = quat_exp(h * b.w);
+    g.dq[i] = quat_exp(h * b.spin);
     g.dq_ok[i] = 1;
   }
   b.q = b.q * g.dq[i];
@@ -62,30 +55,26 @@ inline void drift_cached(IsoGroup& g, int i, double h) {
 inline void drift_cached(AxiGroup& g, int i, double h) {
   Motion& b = g.motion[i];
   const DiagRot& r = g.rot[i];
-  Vec3 mom = r.I.cwiseProduct(b.w);
   if (!g.plan_ok[i]) {
-    make_axisym_plan(r.I.x(), r.I.z(), mom, h, g.plan[i]);
+    make_axisym_plan(r.I.x(), r.I.z(), b.spin, h, g.plan[i]);
     g.plan_ok[i] = 1;
   }
   Quat dq;
-  advance_axisym(g.plan[i], mom, dq);
+  advance_axisym(g.plan[i], b.spin, dq);
   b.q = b.q * dq;
   renormalize(b.q);
-  b.w = r.inv_I.cwiseProduct(mom);
 }
 inline void drift_cached(GenGroup& g, int i, double h) {
   Motion& b = g.motion[i];
-  const DiagRot& r = g.rot[i];
-  Vec3 mom = r.I.cwiseProduct(b.w);
   if (!g.plan_ok[i]) {
-    make_rotor_plan(g.rotor[i], mom, h, g.plan[i]);
+    make_rotor_plan(g.rotor[i], b.spin, h, g.plan[i]);
     g.plan_ok[i] = 1;
+    g.axis[i] = Quat(0.0, 0.0, 0.0, 0.0);
   }
   Quat dq;
-  advance_rotor(g.plan[i], mom, dq);
+  advance_rotor(g.plan[i], b.spin, dq, RotorUpdate::kPinned, &g.axis[i]);
   b.q = b.q * dq;
   renormalize(b.q);
-  b.w = r.inv_I.cwiseProduct(mom);
 }
 
 inline void invalidate(IsoGroup& g, int i) {
@@ -131,16 +120,16 @@ void exact_group(G& g, const Model& m, bool fourth_order) {
     const int n = fourth_order ? Composition::kStages : 1;
     const auto size_of = [&](int k) { return fourth_order ? Composition::kStage[k] * h : h; };
     Vec3 a0 = lin.accel(L.force_W(b.q));
-    Vec3 alpha = rot.alpha(L.torque_P(b.q));
-    kick_angular(alpha, rates, 0.5 * size_of(0), b.w);
+    Vec3 rate = rot.spin_rate(L.torque_P(b.q));
+    kick_angular(rate, rates, 0.5 * size_of(0), b.spin);
     for (int k = 0; k < n; ++k) {
       const double s = size_of(k);
       drift(g, i, s);
       const Vec3 a1 = lin.accel(L.force_W(b.q));
-      alpha = rot.alpha(L.torque_P(b.q));
+      rate = rot.spin_rate(L.torque_P(b.q));
       translate(m.tc(lin, fourth_order ? Composition::kSize[k] : kFull), a0, a1, b.x, b.v);
       const double next = k + 1 < n ? size_of(k + 1) : 0.0;
-      kick_angular(alpha, rates, 0.5 * (s + next), b.w);
+      kick_angular(rate, rates, 0.5 * (s + next), b.spin);
       a0 = a1;
     }
   }

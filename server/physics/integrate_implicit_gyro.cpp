@@ -29,13 +29,15 @@ void implicit_gyro_group(G& g, const Model& m) {
     if constexpr (kRotates) {
       const auto& rot = g.rot[i];
       using Rot = std::decay_t<decltype(rot)>;
-      kick_angular(rot.alpha(L.torque_P(s.q)), rot.drag_rates(), h, s.w);
+      kick_angular(rot.spin_rate(L.torque_P(s.q)), rot.drag_rates(), h, s.spin);
+      Vec3 w = rot.omega(s.spin);
       if constexpr (std::is_same_v<Rot, DiagRot>) {
-        const Vec3 Iw = rot.I.cwiseProduct(s.w);
-        const Mat3 J = Mat3(rot.I.asDiagonal()) + h * (skew(s.w) * rot.I.asDiagonal() - skew(Iw));
-        s.w -= J.partialPivLu().solve(h * s.w.cross(Iw));
+        const Vec3 Iw = rot.I.cwiseProduct(w);
+        const Mat3 J = Mat3(rot.I.asDiagonal()) + h * (skew(w) * rot.I.asDiagonal() - skew(Iw));
+        w -= J.inverse() * (h * w.cross(Iw));  // fixed-size 3x3: Eigen's cofactor inverse
+        s.spin = rot.spin_of(w);
       }
-      s.q = s.q * quat_exp(h * s.w);
+      s.q = s.q * quat_exp(h * w);
       renormalize(s.q);
     }
   }

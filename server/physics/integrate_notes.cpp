@@ -33,19 +33,20 @@ void notes_group(G& g, IntegratorId which, double h) {
       return Vec3(lin.accel(L.force_W(q)) - lin.gamma * v);
     };
     // I_W^-1 tau_W at orientation q and world angular velocity w_W:
-    // R I^-1 R^T tau_W = R alpha(tau_P), with the drag torque -k w.
+    // R I^-1 R^T tau_W = R I^-1 tau_P, with the drag torque -k w.
     const auto alpha_W = [&](const Quat& q, const Vec3& w_W) {
       if constexpr (kRotates) {
         const auto& rot = g.rot[i];
         const Vec3 w_P = q.conjugate() * w_W;
-        return Vec3(q * rot.alpha(L.torque_P(q) - rot.k * w_P));
+        return Vec3(q * rot.omega(rot.spin_rate(L.torque_P(q) - rot.k * w_P)));
       } else {
         (void)q, (void)w_W;
         return Vec3(Vec3::Zero());
       }
     };
     const Quat q0 = s.q;
-    const Vec3 w0 = q0 * s.w;  // world frame, the notes' state
+    Vec3 w0 = Vec3::Zero();  // world frame, the notes' state
+    if constexpr (kRotates) w0 = q0 * g.rot[i].omega(s.spin);
     Quat q1 = q0;
     Vec3 w1 = w0;
     switch (which) {
@@ -101,7 +102,7 @@ void notes_group(G& g, IntegratorId which, double h) {
         s.v = (vh + 0.5 * h * lin.accel(L.force_W(q1))) / (1.0 + 0.5 * h * lin.gamma);
         if constexpr (kRotates) {
           const auto& rot = g.rot[i];
-          const Vec3 w_P = q1.conjugate() * wh + 0.5 * h * rot.alpha(L.torque_P(q1));
+          const Vec3 w_P = q1.conjugate() * wh + 0.5 * h * rot.omega(rot.spin_rate(L.torque_P(q1)));
           w1 = q1 * w_P.cwiseQuotient(Vec3::Ones() + 0.5 * h * rot.drag_rates());
         }
         break;
@@ -111,7 +112,7 @@ void notes_group(G& g, IntegratorId which, double h) {
     }
     if constexpr (kRotates) {
       s.q = q1;
-      s.w = q1.conjugate() * w1;
+      s.spin = g.rot[i].spin_of(q1.conjugate() * w1);
     }
   }
 }

@@ -13,7 +13,7 @@ namespace rigid::physics::detail {
 namespace {
 
 struct Deriv {
-  Vec3 dx, dv, dw;
+  Vec3 dx, dv, ds;
   Eigen::Vector4d dq;  // Eigen coefficient order (x, y, z, w)
 };
 
@@ -27,19 +27,25 @@ void rk4_group(G& g, double h) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
+    // The stages' q drift off the unit sphere; loads that turn with the body are evaluated at the
+    // normalised q (one reciprocal, not four divisions), the others need no q at all.
+    const bool turns =
+        !L.orientation_free_force() || (L.flags & (Loads::kWorldTorque | Loads::kLever));
     const auto f = [&](const Motion& y) {
       Deriv d;
-      const Quat qn = kRotates ? y.q.normalized() : y.q;
+      Quat qn = y.q;
+      if (kRotates && turns) qn.coeffs() *= 1.0 / y.q.norm();
       d.dx = y.v;
       d.dv = lin.accel(L.force_W(qn)) - lin.gamma * y.v;
       if constexpr (kRotates) {
         const auto& rot = g.rot[i];
-        Vec3 tau = L.torque_P(qn) - rot.k * y.w;
-        if constexpr (kGyroscopic<std::decay_t<decltype(rot)>>) tau -= rot.gyro(y.w);
-        d.dw = rot.alpha(tau);
-        d.dq = 0.5 * (y.q * Quat(0.0, y.w.x(), y.w.y(), y.w.z())).coeffs();
+        const Vec3 w = rot.omega(y.spin);
+        Vec3 tau = L.torque_P(qn) - rot.k * w;
+        if constexpr (kGyroscopic<std::decay_t<decltype(rot)>>) tau -= w.cross(y.spin);
+        d.ds = rot.spin_rate(tau);
+        d.dq = 0.5 * (y.q * Quat(0.0, w.x(), w.y(), w.z())).coeffs();
       } else {
-        d.dw.setZero();
+        d.ds.setZero();
         d.dq.setZero();
       }
       return d;
@@ -48,7 +54,7 @@ void rk4_group(G& g, double h) {
       Motion y;
       y.x = s.x + c * d.dx;
       y.v = s.v + c * d.dv;
-      y.w = s.w + c * d.dw;
+      y.spin = s.spin + c * d.ds;
       y.q.coeffs() = s.q.coeffs() + c * d.dq;
       return y;
     };
@@ -60,9 +66,9 @@ void rk4_group(G& g, double h) {
     s.x += c * (k1.dx + 2.0 * k2.dx + 2.0 * k3.dx + k4.dx);
     s.v += c * (k1.dv + 2.0 * k2.dv + 2.0 * k3.dv + k4.dv);
     if constexpr (kRotates) {
-      s.w += c * (k1.dw + 2.0 * k2.dw + 2.0 * k3.dw + k4.dw);
+      s.spin += c * (k1.ds + 2.0 * k2.ds + 2.0 * k3.ds + k4.ds);
       s.q.coeffs() += c * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq);
-      s.q.normalize();
+      renormalize(s.q);
     }
   }
 }

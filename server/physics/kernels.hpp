@@ -19,16 +19,17 @@ void step_dlm(Model& m);
 // Kick-drift-kick with the exact free rotor; fourth_order: Suzuki's composition of it.
 void step_exact(Model& m, bool fourth_order);
 
-// Exact decay of w under angular drag over s with constant torque, per principal axis:
-// w_i <- e^{-r_i s} w_i + s phi1(-r_i s) alpha_i, r_i = k / I_i. With k == 0: w += s alpha.
-inline void kick_angular(const Vec3& alpha, const Vec3& rate, double s, Vec3& w) {
+// The kick of the spin (w_P or h_P, see model.hpp) over s: spin' = rate - decay . spin with the
+// torque's rate constant, solved exactly per principal axis (angular drag as an exact decay):
+// spin_i <- e^{-d_i s} spin_i + s phi1(-d_i s) rate_i. With no drag: spin += s rate.
+inline void kick_angular(const Vec3& rate, const Vec3& decay, double s, Vec3& spin) {
   for (int i = 0; i < 3; ++i) {
-    if (rate[i] == 0.0) {
-      w[i] += s * alpha[i];
+    if (decay[i] == 0.0) {
+      spin[i] += s * rate[i];
     } else {
-      const double z = -rate[i] * s;
+      const double z = -decay[i] * s;
       const double em1 = std::expm1(z);
-      w[i] = (1.0 + em1) * w[i] + s * (em1 / z) * alpha[i];
+      spin[i] = (1.0 + em1) * spin[i] + s * (em1 / z) * rate[i];
     }
   }
 }

@@ -21,8 +21,15 @@ inline constexpr double kSmallAngle = 1.0 / 16.0;
 // libm calls when |t| is small, which is the common case inside a time step.
 inline void cos_sinc(double t, double& c, double& sinc) {
   const double t2 = t * t;
-  if (std::abs(t) < kSmallAngle) {
-    // Taylor series to t^12; truncation error < t^14/14! < 1e-27 for |t| < 1/16.
+  const double at = std::abs(t);
+  // Taylor series, as short as the angle allows: the first omitted term stays below 1e-20.
+  if (at < 1e-3) {  // next terms t^6/720, t^6/5040 < 1.4e-21
+    c = 1.0 + t2 * (-1.0 / 2 + t2 * (1.0 / 24));
+    sinc = 1.0 + t2 * (-1.0 / 6 + t2 * (1.0 / 120));
+  } else if (at < 2e-2) {  // next terms t^10/10!, t^10/11! < 3e-24
+    c = 1.0 + t2 * (-1.0 / 2 + t2 * (1.0 / 24 + t2 * (-1.0 / 720 + t2 * (1.0 / 40320))));
+    sinc = 1.0 + t2 * (-1.0 / 6 + t2 * (1.0 / 120 + t2 * (-1.0 / 5040 + t2 * (1.0 / 362880))));
+  } else if (at < kSmallAngle) {  // next terms t^14/14! < 1e-27
     c = 1.0 + t2 * (-1.0 / 2 +
                     t2 * (1.0 / 24 +
                           t2 * (-1.0 / 720 + t2 * (1.0 / 40320 + t2 * (-1.0 / 3628800 +

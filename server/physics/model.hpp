@@ -3,9 +3,12 @@
 // per-body branch on the kind of body (Box2D v3's solver sets, MuJoCo's model/data split).
 //
 // Every body's state is kept about its centre of mass in its principal frame P:
-//   Motion::q = q_WP, Motion::x = p_WBo, Motion::v = v_WBo (in W), Motion::w = w_WP expressed in P.
-// Storing w in P makes the gyroscopic term w x Iw diagonal-cheap, and is the frame the exact
-// rotor works in; the world-frame w of the course notes is formed where a scheme needs it.
+//   Motion::q = q_WP, Motion::x = p_WBo, Motion::v = v_WBo (in W), and Motion::spin, expressed in
+//   P: the angular velocity w_P for point and isotropic bodies, the angular momentum h_P = I w_P
+//   for axisymmetric and general ones. Momentum is what the splittings and the exact rotor evolve
+//   and what torque changes directly; keeping it as the state spares every step a round trip h = I
+//   w, w = h / I, whose rounding is a fixed bias per axis (I * (1/I) != 1) that a long run
+//   accumulates. The rotational parameters below convert (omega, spin_of) where a scheme needs w.
 #pragma once
 
 #include <array>
@@ -22,7 +25,7 @@ struct Motion {
   Quat q = Quat::Identity();
   Vec3 x = Vec3::Zero();
   Vec3 v = Vec3::Zero();
-  Vec3 w = Vec3::Zero();
+  Vec3 spin = Vec3::Zero();
 };
 
 struct Linear {
@@ -54,7 +57,12 @@ struct IsoRot {
 
   // I^-1 tau, projected onto the hinge axis for a hinge (branch-free).
   Vec3 alpha(const Vec3& tau) const { return inv_I * (tau - hinge * (tau - axis * axis.dot(tau))); }
-  // Decay rates of w under angular drag, per P axis (alpha(-k w) = -rates . w).
+  // The spin is w_P itself.
+  Vec3 omega(const Vec3& spin) const { return spin; }
+  Vec3 spin_of(const Vec3& w) const { return w; }
+  // d spin / dt under a torque (no drag): I^-1 tau.
+  Vec3 spin_rate(const Vec3& tau) const { return alpha(tau); }
+  // Decay rates of the spin under angular drag, per P axis.
   Vec3 drag_rates() const { return Vec3::Constant(k * inv_I); }
 };
 
@@ -64,9 +72,12 @@ struct DiagRot {
   Vec3 inv_I = Vec3::Ones();
   double k = 0.0;
 
-  Vec3 alpha(const Vec3& tau) const { return inv_I.cwiseProduct(tau); }
-  // w x I w
-  Vec3 gyro(const Vec3& w) const { return w.cross(I.cwiseProduct(w)); }
+  // The spin is h_P = I w_P.
+  Vec3 omega(const Vec3& spin) const { return inv_I.cwiseProduct(spin); }
+  Vec3 spin_of(const Vec3& w) const { return I.cwiseProduct(w); }
+  // d h / dt under a torque, without the gyroscopic term and drag: tau itself.
+  Vec3 spin_rate(const Vec3& tau) const { return tau; }
+  // Decay rates of h under angular drag: dh_i/dt = -k w_i = -(k / I_i) h_i.
   Vec3 drag_rates() const { return k * inv_I; }
 };
 
@@ -99,6 +110,8 @@ struct GenGroup : Group {
   std::vector<RotorInertia> rotor;
   std::vector<RotorPlan> plan;
   std::vector<std::uint8_t> plan_ok;
+  // The last step's end-of-step frame quaternion, the next step's start: see advance_rotor.
+  std::vector<Quat> axis;
 };
 
 // A composition of a symmetric second-order step into a fourth-order one: stage sizes c_i h.

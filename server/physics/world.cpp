@@ -115,6 +115,7 @@ struct World::Impl {
   void set_state(int id, const BodyState& s);
   void apply_pending_impulses();
   Vec3 angular_momentum_P(int id) const;
+  Vec3 omega_P(int id) const;
   void check_id(int id) const;
 };
 
@@ -306,6 +307,7 @@ void World::Impl::compile() {
         model.gen.rotor.emplace_back(diag.I);
         model.gen.plan.emplace_back();
         model.gen.plan_ok.push_back(0);
+        model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
         break;
     }
     BodyState s{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB};
@@ -368,13 +370,24 @@ void World::Impl::set_state(int id, const BodyState& st) {
   if (s.model == BodyModel::kPoint) {
     // A point mass keeps its orientation and never turns.
     m.q = st.q_WB.normalized();
-    m.w.setZero();
+    m.spin.setZero();
   } else {
     m.q = (st.q_WB.normalized() * q_BP[id]).normalized();
-    m.w = m.q.conjugate() * st.w_WB;
-    if (s.model == BodyModel::kIsotropic) {
-      const IsoRot& r = model.iso.rot[s.index];
-      if (r.hinge != 0.0) m.w = r.axis * r.axis.dot(m.w);
+    const Vec3 w_P = m.q.conjugate() * st.w_WB;
+    switch (s.model) {
+      case BodyModel::kIsotropic: {
+        const IsoRot& r = model.iso.rot[s.index];
+        m.spin = r.hinge != 0.0 ? Vec3(r.axis * r.axis.dot(w_P)) : w_P;
+        break;
+      }
+      case BodyModel::kAxisymmetric:
+        m.spin = model.axi.rot[s.index].spin_of(w_P);
+        break;
+      case BodyModel::kGeneral:
+        m.spin = model.gen.rot[s.index].spin_of(w_P);
+        break;
+      case BodyModel::kPoint:
+        break;
     }
   }
   invalidate_cache(id);
@@ -389,13 +402,13 @@ void World::Impl::apply_pending_impulses() {
     const Vec3 dL_P = m.q.conjugate() * pending_L[id];
     switch (s.model) {
       case BodyModel::kIsotropic:
-        m.w += model.iso.rot[s.index].alpha(dL_P);
+        m.spin += model.iso.rot[s.index].spin_rate(dL_P);
         break;
       case BodyModel::kAxisymmetric:
-        m.w += model.axi.rot[s.index].alpha(dL_P);
+        m.spin += model.axi.rot[s.index].spin_rate(dL_P);
         break;
       case BodyModel::kGeneral:
-        m.w += model.gen.rot[s.index].alpha(dL_P);
+        m.spin += model.gen.rot[s.index].spin_rate(dL_P);
         break;
       case BodyModel::kPoint:
         break;
@@ -416,13 +429,28 @@ Vec3 World::Impl::angular_momentum_P(int id) const {
     case BodyModel::kIsotropic: {
       const IsoRot& r = model.iso.rot[s.index];
       // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
-      if (r.inv_I == 0.0) return spec.bodies[id].I_B * m.w;
-      return m.w / r.inv_I;
+      if (r.inv_I == 0.0) return spec.bodies[id].I_B * m.spin;
+      return m.spin / r.inv_I;
     }
     case BodyModel::kAxisymmetric:
-      return model.axi.rot[s.index].I.cwiseProduct(m.w);
     case BodyModel::kGeneral:
-      return model.gen.rot[s.index].I.cwiseProduct(m.w);
+      return m.spin;  // the angular momentum itself
+  }
+  return Vec3::Zero();
+}
+
+Vec3 World::Impl::omega_P(int id) const {
+  const Slot& s = slot[id];
+  const Motion& m = motion(id);
+  switch (s.model) {
+    case BodyModel::kPoint:
+      return Vec3::Zero();
+    case BodyModel::kIsotropic:
+      return model.iso.rot[s.index].omega(m.spin);
+    case BodyModel::kAxisymmetric:
+      return model.axi.rot[s.index].omega(m.spin);
+    case BodyModel::kGeneral:
+      return model.gen.rot[s.index].omega(m.spin);
   }
   return Vec3::Zero();
 }
@@ -524,7 +552,7 @@ BodyState World::state(int id) const {
     s.w_WB.setZero();
   } else {
     s.q_WB = m.q * impl_->q_BP[id].conjugate();
-    s.w_WB = m.q * m.w;
+    s.w_WB = m.q * impl_->omega_P(id);
   }
   return s;
 }
@@ -586,7 +614,8 @@ double World::kinetic_energy(int id) const {
   impl_->check_id(id);
   const Motion& m = impl_->motion(id);
   const double mass = impl_->spec.bodies[id].mass;
-  return 0.5 * mass * m.v.squaredNorm() + 0.5 * m.w.dot(impl_->angular_momentum_P(id));
+  return 0.5 * mass * m.v.squaredNorm() +
+         0.5 * impl_->omega_P(id).dot(impl_->angular_momentum_P(id));
 }
 
 double World::total_energy() const {
