@@ -107,10 +107,20 @@ void plan_core(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p, do
   p.a = std::sqrt(a2);
   p.c = std::sqrt(c2);
   p.G = std::sqrt(g2);
-  // Three divisions in all; b, k^2, k'^2 and 2T come from these and per-body constants.
-  p.ia = p.a > 0.0 ? 1.0 / p.a : 0.0;
-  p.ic = 1.0 / p.c;  // c > 0 whenever m != 0 (see the case analysis in the comment above)
-  const double iG = 1.0 / p.G;
+  // One division for 1/a, 1/c and 1/G (c > 0 whenever m != 0, see the case analysis above);
+  // b, k^2, k'^2 and 2T come from these and per-body constants.
+  double iG;
+  const double acg = p.a * p.c * p.G;
+  if (std::isnormal(acg)) {
+    const double inv = 1.0 / acg;
+    p.ia = p.c * p.G * inv;
+    p.ic = p.a * p.G * inv;
+    iG = p.a * p.c * inv;
+  } else {  // a == 0 (a pure spin), or momenta so extreme that the product leaves the range
+    p.ia = p.a > 0.0 ? 1.0 / p.a : 0.0;
+    p.ic = 1.0 / p.c;
+    iG = 1.0 / p.G;
+  }
   p.b = p.a * isr;
   p.ib = p.ia * sr;
   p.cn_bias = p.a > 0.0 ? 0.0 : 1.0;  // a == 0: pure spin, any phase; take cn = 1
@@ -139,14 +149,6 @@ inline double psi_integrand(double cG, double dn) {
   return dn / (1.0 + cG * dn);
 }
 
-// The minimal-rotation quaternion taking m/G to s e3: (G + s m3, s m2, -s m1, 0) normalised,
-// with s m3 = c dn >= 0 so that it is never singular.
-inline Quat to_axis(double G, double sm3, double sm2, double sm1) {
-  const double w = G + sm3;
-  const double inv = 1.0 / std::sqrt(2.0 * G * w);
-  return Quat(w * inv, sm2 * inv, -sm1 * inv, 0.0);
-}
-
 // Shared tail of a step: the orientation increment from the phases at both ends and dpsi, the
 // new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `integral` is the quadrature
 // of dn / (1 + (c/G) dn) over the phase increment.
@@ -157,15 +159,34 @@ inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, dou
   cos_sinc(0.5 * dpsi, cz, sincz);
   const double sz = 0.5 * dpsi * sincz;
 
-  // m at the start, carried from the last step or rebuilt from the projected phase:
-  // s m1 = a cn, s m2 = s b sn, s m3 = c dn.
-  const Quat p0 =
-      axis != nullptr && axis->w() > 0.0 ? *axis : to_axis(p.G, p.c * d0, p.s * p.b * s0, p.a * c0);
-  const Quat p1 = to_axis(p.G, p.s * y3, p.s * y2, p.s * y1);
-  if (axis != nullptr) *axis = p1;
-  // u = Rz(dpsi) * p1, with p1.z() == 0.
-  const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
-  const Quat d = p0.conjugate() * u;
+  // The frames at both ends: (G + s m3, s m2, -s m1, 0), |.|^2 = 2 G (G + s m3). At the start m
+  // is rebuilt from the phase: s m1 = a cn, s m2 = s b sn, s m3 = c dn.
+  const double w1 = p.G + p.s * y3;
+  Quat d;
+  if (axis != nullptr) {
+    // A reused plan: the start frame is the last step's end frame, carried; the end frame is
+    // normalised and carried on.
+    Quat p0 = *axis;
+    if (!(p0.w() > 0.0)) {
+      const double w0 = p.G + p.c * d0;
+      const double n0 = 1.0 / std::sqrt(2.0 * p.G * w0);
+      p0 = Quat(w0 * n0, p.s * p.b * s0 * n0, -p.a * c0 * n0, 0.0);
+    }
+    const double n1 = 1.0 / std::sqrt(2.0 * p.G * w1);
+    const Quat p1(w1 * n1, p.s * y2 * n1, -p.s * y1 * n1, 0.0);
+    *axis = p1;
+    // u = Rz(dpsi) * p1, with p1.z() == 0; d = p0^* u.
+    const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
+    d = p0.conjugate() * u;
+  } else {
+    // A plan used once: both frames unnormalised, one square root for both normalisations.
+    const double w0 = p.G + p.c * d0;
+    const Quat p0(w0, p.s * p.b * s0, -p.a * c0, 0.0);
+    const Quat p1(w1, p.s * y2, -p.s * y1, 0.0);
+    const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
+    d = p0.conjugate() * u;
+    d.coeffs() *= 1.0 / (2.0 * p.G * std::sqrt(w0 * w1));
+  }
   if (p.case_b) {
     // Back from case coordinates: m = (y3, -y2, y1); a rotation about v' is one about M v'.
     mP = Vec3(y3, -y2, y1);
@@ -180,9 +201,15 @@ inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, dou
 // dn^2 = k'^2 + k^2 cn^2. Without this, round-off moves the invariants |m| and T a little every
 // step; near the separatrix the flip period is so sensitive to them that a 20 s racket flip at
 // dt = 1e-4 s lost 7e-9 rad. With it, the invariants are those of the plan, exactly.
-inline void phase_of(const RotorPlan& p, double x1, double x2, double& s0, double& c0, double& d0) {
+inline void phase_of(const RotorPlan& p, double x1, double x2, double x3, bool fresh, double& s0,
+                     double& c0, double& d0) {
   s0 = x2 * p.ib;
   c0 = p.s * x1 * p.ia + p.cn_bias;
+  if (fresh) {
+    // The plan was made from this very m: the phase is on its curve to round-off already.
+    d0 = p.s * x3 * p.ic;
+    return;
+  }
   // One Newton step towards s0^2 + c0^2 = 1: the error is round-off (~1e-16), so this lands on
   // the curve to round-off without a square root; a state set from outside takes the slow path.
   const double n2 = s0 * s0 + c0 * c0;
@@ -254,7 +281,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
   double x1, x2, x3;
   case_coords(p, mP, x1, x2, x3);
   double s0, c0, d0;
-  phase_of(p, x1, x2, s0, c0, d0);
+  phase_of(p, x1, x2, x3, update == RotorUpdate::kIncrement, s0, c0, d0);
   if (p.n == 0) {
     advance_long(p, s0, c0, d0, mP, dq, axis);
     return;
@@ -311,13 +338,22 @@ void make_axisym_plan(double A, double C, const Vec3& mP, double h, AxisymPlan& 
   p.sz = 0.5 * h * omega * sincz;
   p.c2 = cz * cz - p.sz * p.sz;
   p.s2 = 2.0 * cz * p.sz;
+  const double perp2 = mP.x() * mP.x() + mP.y() * mP.y();
+  p.inv_perp2 = perp2 > 0.0 ? 1.0 / perp2 : 0.0;
 }
 
 void advance_axisym(const AxisymPlan& p, Vec3& mP, Quat& dq) {
   const Quat e(p.cw, p.hA * mP.x(), p.hA * mP.y(), p.hA * mP.z());
   dq = e * Quat(p.cz, 0.0, 0.0, -p.sz);
-  const double m1 = p.c2 * mP.x() - p.s2 * mP.y();
-  const double m2 = p.s2 * mP.x() + p.c2 * mP.y();
+  double m1 = p.c2 * mP.x() - p.s2 * mP.y();
+  double m2 = p.s2 * mP.x() + p.c2 * mP.y();
+  // (c2, s2) is a rotation only to round-off, the same bias every step: pin |m_perp| back to its
+  // planned value with one Newton step on |m_perp|^2 (no square root), or it drifts with N.
+  if (p.inv_perp2 > 0.0) {
+    const double f = 1.5 - 0.5 * (m1 * m1 + m2 * m2) * p.inv_perp2;
+    m1 *= f;
+    m2 *= f;
+  }
   mP.x() = m1;
   mP.y() = m2;
 }

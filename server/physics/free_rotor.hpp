@@ -84,10 +84,10 @@ void free_rotor_step(const RotorInertia& J, Vec3& m_P, double h, Quat& dq);
 // precession in closed form. m_P(t) turns about z at Omega = (C - A) m3 / (A C), and
 // q_WP(t + h) = q_WP(t) * exp(h m_P / A) * exp(-h Omega z).
 struct AxisymPlan {
-  double cw = 1, sw = 0;  // exp(h m/A): cos and sin/|.| scaled, see advance_axisym
+  double cw = 1, hA = 0;  // exp(h m / A) = (cw, hA m): cos(h|m|/2A) and sin(h|m|/2A) / |m|
   double cz = 1, sz = 0;  // cos, sin of h Omega / 2
   double c2 = 1, s2 = 0;  // cos, sin of h Omega
-  double hA = 0;          // h / (2A) * sinc
+  double inv_perp2 = 0;   // 1 / |m_perp|^2 at planning: the transverse momentum's size is pinned
 };
 void make_axisym_plan(double A, double C, const Vec3& m_P, double h, AxisymPlan& p);
 void advance_axisym(const AxisymPlan& p, Vec3& m_P, Quat& dq);

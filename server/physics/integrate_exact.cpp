@@ -92,8 +92,7 @@ void exact_points(PointGroup& g, const Model& m) {
   for (int i = 0; i < g.size(); ++i) {
     Motion& b = g.motion[i];
     const Linear& lin = g.linear[i];
-    const Vec3 a = lin.accel(g.loads[i].force_W(b.q));
-    translate(m.tc(lin, kFull), a, a, b.x, b.v);
+    translate(m.tc(lin, kFull), lin.accel(g.loads[i].force_W(b.q)), b.x, b.v);
   }
 }
 
@@ -105,9 +104,8 @@ void exact_group(G& g, const Model& m, bool fourth_order) {
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
     const auto& rot = g.rot[i];
-    if (L.torque_free() && L.orientation_free_force() && rot.k == 0.0) {
-      const Vec3 a = lin.accel(L.f_W);
-      translate(m.tc(lin, kFull), a, a, b.x, b.v);
+    if (L.quiet()) {
+      translate(m.tc(lin, kFull), lin.accel(L.f_W), b.x, b.v);
       drift_cached(g, i, h);
       continue;
     }

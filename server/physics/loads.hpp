@@ -21,16 +21,24 @@ struct Loads {
     kBodyTorque = 1u << 1,   // tau_P != 0
     kWorldTorque = 1u << 2,  // tau_W != 0
     kLever = 1u << 3,        // fr != 0
+    kAngularDrag = 1u << 4,  // the body has angular drag (set once, at compile time)
   };
+  // flags and f_W first: the integrators' fast path for a body with nothing turning it reads only
+  // these, from one cache line.
+  std::uint32_t flags = 0;
   Vec3 f_W = Vec3::Zero();
   Vec3 f_P = Vec3::Zero();
   Vec3 tau_P = Vec3::Zero();
   Vec3 tau_W = Vec3::Zero();
   Mat3 fr = Mat3::Zero();
-  std::uint32_t flags = 0;
 
   bool torque_free() const { return (flags & (kBodyTorque | kWorldTorque | kLever)) == 0; }
   bool orientation_free_force() const { return (flags & kBodyForce) == 0; }
+  // Nothing turns the body and nothing it carries depends on its orientation: its rotation is
+  // free and its translation sees a constant acceleration.
+  bool quiet() const {
+    return (flags & (kBodyForce | kBodyTorque | kWorldTorque | kLever | kAngularDrag)) == 0;
+  }
 
   void add_force(const Vec3& f, const Vec3& r_P, bool body_frame) {
     if (body_frame) {
@@ -47,8 +55,9 @@ struct Loads {
     refresh_flags();
   }
   void refresh_flags() {
-    flags = (f_P.isZero(0) ? 0u : kBodyForce) | (tau_P.isZero(0) ? 0u : kBodyTorque) |
-            (tau_W.isZero(0) ? 0u : kWorldTorque) | (fr.isZero(0) ? 0u : kLever);
+    flags = (flags & kAngularDrag) | (f_P.isZero(0) ? 0u : kBodyForce) |
+            (tau_P.isZero(0) ? 0u : kBodyTorque) | (tau_W.isZero(0) ? 0u : kWorldTorque) |
+            (fr.isZero(0) ? 0u : kLever);
   }
 
   // Force in W at orientation q = q_WP.

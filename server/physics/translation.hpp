@@ -58,6 +58,12 @@ inline void translate(const TransCoef& k, const Vec3& a0, const Vec3& a1, Vec3& 
   v = k.E * v + k.p1 * a0 + k.p2 * da;
 }
 
+// The same for a constant acceleration (a0 == a1): exact.
+inline void translate(const TransCoef& k, const Vec3& a, Vec3& x, Vec3& v) {
+  x += k.p1 * v + k.q2 * a;
+  v = k.E * v + k.p1 * a;
+}
+
 // The kick sub-flow of a splitting: v' = a - gamma v with a constant, exact.
 inline void kick(const TransCoef& k, const Vec3& a, Vec3& v) {
   v = k.E * v + k.p1 * a;

@@ -316,6 +316,12 @@ void World::Impl::compile() {
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
 
+  for (int i = 0; i < n; ++i) {
+    const BodySpec& b = spec.bodies[i];
+    if (b.angular_drag > 0.0 && !b.kinematic && slot[i].model != BodyModel::kPoint) {
+      base_loads[i].flags |= Loads::kAngularDrag;
+    }
+  }
   for (const LoadSpec& l : spec.loads) {
     const BodySpec& b = spec.bodies[l.body];
     if (b.kinematic) continue;  // a kinematic body ignores every force

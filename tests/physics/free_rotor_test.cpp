@@ -70,6 +70,22 @@ TEST(FreeRotor, RacketFlipIsStepSizeIndependent) {
   }
 }
 
+// Closer still to the separatrix (w0 = (1e-6, 5, 1e-6)): the motion amplifies round-off about
+// 1e12-fold, beyond what a long-double reference can resolve, so the oracle here is the Taylor
+// series in quad precision. Exact to round-off still, at every step length.
+TEST(FreeRotor, NearSeparatrixAgainstAQuadPrecisionOracle) {
+  const double I[3] = {1, 2, 3}, w0[3] = {1e-6, 5, 1e-6};
+  long double q[4], w[3];
+  taylor_free_run(I, w0, 20.0, 4000, 24, q, w);
+  const Quat ref = Quat(double(q[0]), double(q[1]), double(q[2]), double(q[3])).normalized();
+  for (double h : {1e-3, 1.0 / 60, 0.5}) {
+    const RotorRun r = run_cached({{1, 2, 3}, {1e-6, 5.0, 1e-6}}, h, std::lround(20.0 / h));
+    // 1e-12: round-off amplified by the motion's own conditioning (the same initial state moved
+    // by one ulp ends ~1e-13 away); a 0.5 s step evaluates F(phi|m) and sn at |u| ~ 40.
+    EXPECT_LT(angle_between(r.q, ref), h < 0.1 ? 1e-12 : 3e-12) << "h=" << h;
+  }
+}
+
 TEST(FreeRotor, ConservesAngularMomentumAndEnergyToRoundOff) {
   for (const Motion& c : kMotions) {
     const Vec3 m0 = c.I.cwiseProduct(c.w0);

@@ -73,3 +73,73 @@ inline void ref_run(const RefBody& b, RefState& s, LD T, long n) {
 }
 
 }  // namespace rigid::test
+
+namespace rigid::test {
+
+// A second, independent oracle for torque-free bodies whose motion is so ill-conditioned that
+// long double is not enough (near the separatrix, round-off is amplified ~1e12): the Taylor series
+// of the Euler equations m' = m x I^-1 m, q' = q x [0, I^-1 m] / 2 in quad precision (__float128,
+// 113-bit significand), the coefficients from the Cauchy-product recurrences
+//   m_{k+1} = (1/(k+1)) sum_j m_j x w_{k-j},   q_{k+1} = (1/(2(k+1))) sum_j q_j x [0, w_{k-j}].
+// Degree `order` with step h; results as long double. No square roots, no library functions.
+template <class T>
+struct QuadState {
+  T q[4];  // w, x, y, z
+  T m[3];
+};
+
+inline void taylor_free_run(const double I_in[3], const double w0[3], double duration, long steps,
+                            int order, long double q_out[4], long double w_out[3]) {
+  using Q = __float128;
+  const Q I[3] = {I_in[0], I_in[1], I_in[2]};
+  const Q iI[3] = {Q(1) / I[0], Q(1) / I[1], Q(1) / I[2]};
+  QuadState<Q> s{{1, 0, 0, 0}, {I[0] * Q(w0[0]), I[1] * Q(w0[1]), I[2] * Q(w0[2])}};
+  const Q h = Q(duration) / Q(steps);
+  constexpr int kMax = 40;
+  Q mc[kMax + 1][3], wc[kMax + 1][3], qc[kMax + 1][4];
+  for (long n = 0; n < steps; ++n) {
+    for (int i = 0; i < 3; ++i)
+      mc[0][i] = s.m[i], wc[0][i] = s.m[i] * iI[i];
+    for (int i = 0; i < 4; ++i)
+      qc[0][i] = s.q[i];
+    for (int k = 0; k < order; ++k) {
+      Q dm[3] = {0, 0, 0}, dq[4] = {0, 0, 0, 0};
+      for (int j = 0; j <= k; ++j) {
+        const Q* a = mc[j];
+        const Q* w = wc[k - j];
+        dm[0] += a[1] * w[2] - a[2] * w[1];
+        dm[1] += a[2] * w[0] - a[0] * w[2];
+        dm[2] += a[0] * w[1] - a[1] * w[0];
+        const Q* q = qc[j];
+        dq[0] += -(q[1] * w[0] + q[2] * w[1] + q[3] * w[2]);
+        dq[1] += q[0] * w[0] + q[2] * w[2] - q[3] * w[1];
+        dq[2] += q[0] * w[1] + q[3] * w[0] - q[1] * w[2];
+        dq[3] += q[0] * w[2] + q[1] * w[1] - q[2] * w[0];
+      }
+      const Q f = Q(1) / Q(k + 1);
+      for (int i = 0; i < 3; ++i)
+        mc[k + 1][i] = dm[i] * f, wc[k + 1][i] = mc[k + 1][i] * iI[i];
+      for (int i = 0; i < 4; ++i)
+        qc[k + 1][i] = dq[i] * f * Q(0.5);
+    }
+    // Horner in h.
+    for (int i = 0; i < 3; ++i) {
+      Q v = mc[order][i];
+      for (int k = order - 1; k >= 0; --k)
+        v = v * h + mc[k][i];
+      s.m[i] = v;
+    }
+    for (int i = 0; i < 4; ++i) {
+      Q v = qc[order][i];
+      for (int k = order - 1; k >= 0; --k)
+        v = v * h + qc[k][i];
+      s.q[i] = v;
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+    q_out[i] = static_cast<long double>(s.q[i]);
+  for (int i = 0; i < 3; ++i)
+    w_out[i] = static_cast<long double>(s.m[i] / I[i]);
+}
+
+}  // namespace rigid::test
