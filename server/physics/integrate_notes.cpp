@@ -18,7 +18,7 @@ namespace {
 Quat notes_rotate(const Quat& q, const Vec3& w_W, double s) {
   Quat r;
   r.coeffs() = q.coeffs() + (0.5 * s) * (Quat(0.0, w_W.x(), w_W.y(), w_W.z()) * q).coeffs();
-  r.normalize();
+  r.coeffs() *= 1.0 / r.norm();
   return r;
 }
 
@@ -34,8 +34,11 @@ void notes_group(G& g, IntegratorId which, double h) {
     };
     // I_W^-1 tau_W at orientation q and world angular velocity w_W:
     // R I^-1 R^T tau_W = R I^-1 tau_P, with the drag torque -k w.
+    // Nothing produces a torque (no torque loads, no angular drag): I_W^-1 tau_W is zero, skip it.
+    const bool torqued = !L.torque_free() || (L.flags & Loads::kAngularDrag) != 0;
     const auto alpha_W = [&](const Quat& q, const Vec3& w_W) {
       if constexpr (kRotates) {
+        if (!torqued) return Vec3(Vec3::Zero());
         const auto& rot = g.rot[i];
         const Vec3 w_P = q.conjugate() * w_W;
         return Vec3(q * rot.omega(rot.spin_rate(L.torque_P(q) - rot.k * w_P)));
