@@ -587,6 +587,11 @@ void World::clear_applied() {
     w.loads(i) = w.base_loads[i];
 }
 
+void World::clear_applied(int id) {
+  impl_->check_id(id);
+  impl_->loads(id) = impl_->base_loads[id];
+}
+
 void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);

@@ -90,6 +90,8 @@ class World {
   // Loads applied on top of the spec's constant loads, held until cleared: the daemon rebuilds
   // them from its table of live wrenches each tick. The point is in B, from the centre of mass.
   void clear_applied();
+  // The same for one body: O(1), for callers that know which bodies they loaded.
+  void clear_applied(int id);
   void add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame);
   void add_torque(int id, const Vec3& tau, Frame frame);
   // An instantaneous momentum change J (N s) at a point, applied at the start of the next step.

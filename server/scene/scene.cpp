@@ -244,6 +244,11 @@ class Loader {
                                   pos_text(body_node(it->second).at("name")) + ")");
       }
       scene_.world.bodies.push_back(load_body(i));
+      const msgs::Body& b = msg_.body(i);
+      scene_.shapes.push_back(
+          b.has_shape()
+              ? std::optional(load_shape(b.shape(), body_node(i).child("shape"), body_label(i)))
+              : std::nullopt);
     }
     if (msg_.body_size() == 0) warn(TextPos{1, 1}, "the scene has no bodies");
   }

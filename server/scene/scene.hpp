@@ -6,11 +6,13 @@
 // checks.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "physics/inertia.hpp"
 #include "physics/spec.hpp"
 
 namespace rigid::scene {
@@ -34,6 +36,9 @@ struct Scene {
   std::vector<std::string> warnings;
   // The file name (or the name given to parse_scene).
   std::string path;
+  // Each body's shape as the file gave it (none when its inertia was given directly), for the
+  // daemon's SceneInfo; parallel to world.bodies.
+  std::vector<std::optional<physics::Shape>> shapes;
 };
 
 class SceneError : public std::runtime_error {

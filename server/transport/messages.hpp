@@ -40,6 +40,7 @@ enum class ShapeKind : std::int32_t {
   kBox = 2,        // dims: full side lengths along B's x, y, z
   kCylinder = 3,   // dims: radius, length along B's z
   kEllipsoid = 4,  // dims: semi-axes along B's x, y, z
+  kCapsule = 5,    // dims: radius, length of the cylindrical part along B's z
 };
 
 using Vec3 = std::array<double, 3>;

@@ -1,0 +1,510 @@
+// rigidd's loop under load, measured from outside as a client sees it (bench/loop_bench.sh runs
+// the whole set and compares with step_bench).
+//
+//   loop_bench realtime [--bodies 1000] [--duration 60] [--push-every-ms 20] [--rigidd PATH]
+//     rigidd in realtime mode at 1 kHz, a state every 10 ticks (100 Hz) on both buses, a
+//     subscriber on each bus, and a controller on each bus pushing its own body with a one-tick
+//     wrench every push-every-ms plus a random fraction of a millisecond. Reports rigidd's overruns
+//     and tick lateness p50/p99/max over the whole run (its closing log line), rigidd's own
+//     measure of command arrival to state sent per bus, and per bus the client's wrench-to-state
+//     latency p50/p99/max: from the controller's publish call to the arrival of the first state in
+//     which the pushed body's velocity changed (so it includes the wrench's own trip to the server
+//     and the state's trip back).
+//   loop_bench timer [--duration 60]
+//     the machine's own timer, without rigidd: a SCHED_FIFO thread sleeping to 1 ms deadlines,
+//     without and with a 100 us final spin (rigidd's --spin-us default); what tick lateness and
+//     overruns cannot beat here.
+//   loop_bench fast [--bodies 10000] [--duration 20] [--no-subscribers] [--rigidd PATH]
+//     rigidd in fast mode (ticks back to back), a state every 10 ticks (100 Hz of simulated time)
+//     on both buses; reports the cost per body-step of the whole loop: wall time / (ticks *
+//     bodies).
+//
+// The bodies are step_bench's "racket" case (I = diag(1, 2, 3), w0 = (1e-3 + 1e-6 i, 5, 1e-3), no
+// gravity, dt = 1 ms, the default integrator), so the fast figure compares directly with
+// `step_bench --benchmark_filter=racket/exact_rotor4/10000`.
+#include <fcntl.h>
+#include <malloc.h>
+#include <sched.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "transport/dds/dds_transport.hpp"
+#include "transport/lcm/lcm_transport.hpp"
+
+extern char** environ;
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using rigid::transport::Bus;
+
+std::int64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+// The clock of the stamps on the wire (rigidd stamps each state with it when it publishes).
+std::int64_t wall_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+struct Options {
+  std::string mode;
+  int bodies = 0;
+  double duration = 0;
+  int push_every_ms = 20;
+  bool subscribers = true;
+  std::string rigidd = RIGIDD_EXE;
+  std::vector<std::string> rigidd_args;  // --rigidd-arg, passed on
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  if (argc < 2) throw std::invalid_argument("usage: loop_bench realtime|fast [options]");
+  o.mode = argv[1];
+  if (o.mode != "realtime" && o.mode != "fast" && o.mode != "timer") {
+    throw std::invalid_argument("expected realtime, fast or timer, got '" + o.mode + "'");
+  }
+  o.bodies = o.mode == "realtime" ? 1000 : 10000;
+  o.duration = o.mode == "realtime" ? 60 : 20;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--bodies") {
+      o.bodies = std::stoi(value());
+    } else if (a == "--duration") {
+      o.duration = std::stod(value());
+    } else if (a == "--push-every-ms") {
+      o.push_every_ms = std::stoi(value());
+    } else if (a == "--no-subscribers") {
+      o.subscribers = false;
+    } else if (a == "--rigidd") {
+      o.rigidd = value();
+    } else if (a == "--rigidd-arg") {
+      o.rigidd_args.push_back(value());
+    } else {
+      throw std::invalid_argument("unknown option '" + a + "'");
+    }
+  }
+  if (o.bodies < 2 || o.duration <= 0) throw std::invalid_argument("bad --bodies or --duration");
+  return o;
+}
+
+// step_bench's racket case as a scene file.
+std::string write_scene(const fs::path& dir, int bodies) {
+  const fs::path path = dir / "bench.pbtxt";
+  std::ofstream out(path);
+  out << "world { rate_hz: 1000 substeps: 1 publish_every: 10 gravity { z: 0 } }\n";
+  char line[256];
+  for (int i = 0; i < bodies; ++i) {
+    std::snprintf(line, sizeof line,
+                  "body { name: \"b%d\" mass: 1 inertia { x: 1 y: 2 z: 3 } use_gravity: false "
+                  "angular_velocity { x: %.17g y: 5 z: 0.001 } }\n",
+                  i, 1e-3 + 1e-6 * i);
+    out << line;
+  }
+  return path.string();
+}
+
+// rigidd as a child, stderr to a file; stopped with SIGTERM.
+class Daemon {
+ public:
+  Daemon(const std::string& exe, const std::vector<std::string>& args, const fs::path& err)
+      : err_(err) {
+    std::vector<std::string> text{exe};
+    text.insert(text.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& t : text)
+      argv.push_back(t.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) {
+      throw std::runtime_error("cannot start " + exe);
+    }
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~Daemon() { stop(); }
+  int stop() {
+    if (pid_ <= 0) return status_;
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return status_;
+  }
+  std::string stderr_text() const {
+    std::ifstream in(err_);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+ private:
+  fs::path err_;
+  pid_t pid_ = -1;
+  int status_ = -1;
+};
+
+// rigidd's closing line, "stopped: ticks=... lateness_us p50=... p99=...": key=value pairs, with
+// a bare word naming the group of the keys after it.
+std::map<std::string, double> closing_figures(const std::string& log) {
+  std::map<std::string, double> figures;
+  const auto at = log.rfind("rigidd: stopped: ");
+  if (at == std::string::npos) return figures;
+  std::istringstream line(log.substr(at + 17, log.find('\n', at) - at - 17));
+  std::string token, group;
+  while (line >> token) {
+    const auto eq = token.find('=');
+    if (eq == std::string::npos) {
+      group = token + ".";
+      continue;
+    }
+    const std::string key = token.substr(0, eq);
+    if (key != "p50" && key != "p99" && key != "max" && key != "n") group.clear();
+    double v = 0;
+    std::from_chars(token.data() + eq + 1, token.data() + token.size(), v);
+    figures[group + key] = v;
+  }
+  return figures;
+}
+
+struct Percentiles {
+  double p50 = 0, p99 = 0, max = 0;
+  std::size_t n = 0;
+};
+
+Percentiles percentiles(std::vector<double> v) {
+  Percentiles p;
+  p.n = v.size();
+  if (v.empty()) return p;
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) {
+    const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+  };
+  p.p50 = at(0.5);
+  p.p99 = at(0.99);
+  p.max = v.back();
+  return p;
+}
+
+// A client on one bus: counts states, and times wrenches on its own body until the first state
+// that shows them.
+class Probe final : public rigid::transport::Receiver {
+ public:
+  Probe(Bus bus, const std::string& prefix, int body, bool subscribe_states)
+      : bus_(bus), body_(body), subscribe_(subscribe_states) {
+    if (bus == Bus::kDds) {
+      rigid::transport::dds::Options o;
+      o.role = rigid::transport::Role::kClient;
+      o.prefix = prefix;
+      transport_ = rigid::transport::dds::make_transport(o, *this);
+    } else {
+      rigid::transport::lcm::Options o;
+      o.role = rigid::transport::Role::kClient;
+      o.prefix = prefix;
+      o.url = std::string(rigid::transport::lcm::kDefaultUrl) + "&recv_buf_size=8388608";
+      transport_ = rigid::transport::lcm::make_transport(o, *this);
+    }
+  }
+  ~Probe() override { transport_.reset(); }
+
+  void on_state(const rigid::transport::StateFrame& s) override {
+    if (!subscribe_) return;
+    const std::int64_t t = now_ns();
+    const std::int64_t wall = wall_ns();
+    const std::lock_guard lock(mutex_);
+    ++states_;
+    if (s.linear_velocity.size() <= static_cast<std::size_t>(3 * body_)) return;
+    const double v = s.linear_velocity[static_cast<std::size_t>(3 * body_)];
+    if (pending_ && v != v_before_) {
+      latencies_us_.push_back(static_cast<double>(t - sent_ns_) * 1e-3);
+      // The two legs: until rigidd published the state, and the state's trip to us.
+      server_us_.push_back(static_cast<double>(s.stamp_ns - sent_wall_ns_) * 1e-3);
+      wire_us_.push_back(static_cast<double>(wall - s.stamp_ns) * 1e-3);
+      pending_ = false;
+    }
+    last_v_ = v;
+    have_state_ = true;
+  }
+  void on_stats(const rigid::transport::StatsReport& s) override {
+    const std::lock_guard lock(mutex_);
+    stats_.push_back(s);
+  }
+
+  bool ready() {
+    const std::lock_guard lock(mutex_);
+    return have_state_;
+  }
+  // One-tick push along x, alternating sign so the velocity returns to where it was.
+  void push() {
+    rigid::transport::WrenchCommand w;
+    w.source = 1000 + static_cast<int>(bus_);
+    w.seq = ++seq_;
+    w.body_id = body_;
+    w.force = {(seq_ % 2) ? 1.0 : -1.0, 0, 0};
+    w.ttl = 0;
+    {
+      const std::lock_guard lock(mutex_);
+      if (pending_) ++lost_;  // the previous one never showed (a lost state or wrench)
+      pending_ = true;
+      v_before_ = last_v_;
+      sent_wall_ns_ = wall_ns();
+      sent_ns_ = now_ns();
+    }
+    w.stamp_ns = sent_wall_ns_;
+    (void)transport_->publish(w);
+  }
+  std::vector<double> latencies() {
+    const std::lock_guard lock(mutex_);
+    return latencies_us_;
+  }
+  std::vector<double> server_legs() {
+    const std::lock_guard lock(mutex_);
+    return server_us_;
+  }
+  std::vector<double> wire_legs() {
+    const std::lock_guard lock(mutex_);
+    return wire_us_;
+  }
+  std::int64_t states() {
+    const std::lock_guard lock(mutex_);
+    return states_;
+  }
+  int lost() {
+    const std::lock_guard lock(mutex_);
+    return lost_;
+  }
+  std::vector<rigid::transport::StatsReport> stats() {
+    const std::lock_guard lock(mutex_);
+    return stats_;
+  }
+
+ private:
+  const Bus bus_;
+  const int body_;
+  const bool subscribe_;
+  std::mutex mutex_;
+  std::int64_t seq_ = 0;
+  bool pending_ = false;
+  bool have_state_ = false;
+  double v_before_ = 0, last_v_ = 0;
+  std::int64_t sent_ns_ = 0;
+  std::int64_t sent_wall_ns_ = 0;
+  std::int64_t states_ = 0;
+  int lost_ = 0;
+  std::vector<double> latencies_us_;
+  std::vector<double> server_us_;  // wrench sent -> state published (rigidd's stamp)
+  std::vector<double> wire_us_;    // state published -> state received
+  std::vector<rigid::transport::StatsReport> stats_;
+  std::unique_ptr<rigid::transport::Transport> transport_;
+};
+
+// The platform's own timer: a bare thread at rigidd's loop priority (SCHED_FIFO 10, timer slack
+// 1 ns) sleeping to absolute 1 ms deadlines, optionally spinning the last spin_us. What rigidd's
+// tick lateness cannot beat on this machine.
+int run_timer(const Options& o, std::int64_t spin_us) {
+  sched_param param{};
+  param.sched_priority = 10;
+  const bool fifo = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  const auto n = static_cast<std::size_t>(o.duration * 1000);
+  std::vector<double> late;
+  late.reserve(n);
+  const std::int64_t t0 = now_ns() + 1'000'000;
+  int over_1ms = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int64_t deadline = t0 + static_cast<std::int64_t>(k) * 1'000'000;
+    const std::int64_t wake = deadline - spin_us * 1000;
+    timespec ts{static_cast<time_t>(wake / 1'000'000'000), static_cast<long>(wake % 1'000'000'000)};
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+    while (now_ns() < deadline) {
+    }
+    const std::int64_t l = now_ns() - deadline;
+    late.push_back(static_cast<double>(l) * 1e-3);
+    over_1ms += l > 1'000'000;
+  }
+  const Percentiles p = percentiles(late);
+  std::printf(
+      "RESULT timer_lateness_us spin %lld%s p50 %.1f p99 %.1f max %.1f, late by more "
+      "than a tick: %d of %zu\n",
+      static_cast<long long>(spin_us), fifo ? "" : " (no SCHED_FIFO)", p.p50, p.p99, p.max,
+      over_1ms, p.n);
+  return 0;
+}
+
+int run(const Options& o) {
+  if (o.mode == "timer") {
+    run_timer(o, 0);
+    return run_timer(o, 100);
+  }
+  const fs::path dir = fs::temp_directory_path() / ("loop_bench_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string scene = write_scene(dir, o.bodies);
+  const std::string prefix = "bench" + std::to_string(::getpid());
+  std::printf(
+      "loop_bench %s: %d bodies (step_bench's racket case), 1 kHz, a state every 10 ticks "
+      "on dds and lcm, %.0f s\n",
+      o.mode.c_str(), o.bodies, o.duration);
+
+  // Subscribers first, so rigidd's first states find them.
+  Probe dds(Bus::kDds, prefix, 0, o.subscribers);
+  Probe lcm(Bus::kLcm, prefix, 1, o.subscribers);
+  std::vector<std::string> args{"--scene", scene, "--mode", o.mode, "--prefix", prefix};
+  args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
+  Daemon daemon(o.rigidd, args, dir / "rigidd.err");
+  const auto start = std::chrono::steady_clock::now();
+  if (o.subscribers) {
+    while (!(dds.ready() && lcm.ready())) {
+      if (std::chrono::steady_clock::now() - start > 30s) {
+        std::fprintf(stderr, "no state from rigidd on both buses within 30 s:\n%s",
+                     daemon.stderr_text().c_str());
+        return 1;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto end = t0 + std::chrono::duration<double>(o.duration);
+  const std::int64_t dds_states0 = dds.states(), lcm_states0 = lcm.states();
+  if (o.mode == "realtime") {
+    // One controller per bus, each pushing every push-every-ms plus a random fraction of a tick:
+    // a fixed period that is a whole number of ticks would always land at the same point of
+    // rigidd's tick, and measure one arrival phase instead of all of them.
+    std::mt19937 random(12345);
+    std::uniform_int_distribution<int> phase_us(0, 999);
+    std::thread lcm_controller([&] {
+      std::mt19937 r(678);
+      for (auto next = t0; next < end; next += std::chrono::milliseconds(o.push_every_ms) +
+                                               std::chrono::microseconds(phase_us(r))) {
+        std::this_thread::sleep_until(next);
+        lcm.push();
+      }
+    });
+    for (auto next = t0; next < end; next += std::chrono::milliseconds(o.push_every_ms) +
+                                             std::chrono::microseconds(phase_us(random))) {
+      std::this_thread::sleep_until(next);
+      dds.push();
+    }
+    lcm_controller.join();
+  } else {
+    std::this_thread::sleep_until(end);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::int64_t dds_states = dds.states() - dds_states0,
+                     lcm_states = lcm.states() - lcm_states0;
+  std::this_thread::sleep_for(50ms);
+  const int status = daemon.stop();
+  const std::string log = daemon.stderr_text();
+  const std::map<std::string, double> f = closing_figures(log);
+  if (status != 0 || f.empty()) {
+    std::fprintf(stderr, "rigidd did not stop cleanly (status %d):\n%s", status, log.c_str());
+    return 1;
+  }
+  std::printf("  %s", log.substr(log.rfind("rigidd: stopped: ")).c_str());
+  std::printf("  states received over %.1f s: dds %lld (%.1f/s), lcm %lld (%.1f/s)\n", wall,
+              static_cast<long long>(dds_states), static_cast<double>(dds_states) / wall,
+              static_cast<long long>(lcm_states), static_cast<double>(lcm_states) / wall);
+  if (o.mode == "realtime") {
+    // The seconds in which ticks were skipped, from the Stats rigidd published each second.
+    std::int64_t overruns_before = 0;
+    for (const auto& st : dds.stats()) {
+      if (st.overruns > overruns_before) {
+        std::printf("  second ending at tick %lld: %lld tick(s) skipped, lateness max %.1f us\n",
+                    static_cast<long long>(st.tick),
+                    static_cast<long long>(st.overruns - overruns_before), st.lateness_max_us);
+      }
+      overruns_before = st.overruns;
+    }
+    std::printf("RESULT overruns %.0f\n", f.at("overruns"));
+    std::printf("RESULT tick_lateness_us p50 %.1f p99 %.1f max %.1f\n", f.at("lateness_us.p50"),
+                f.at("lateness_us.p99"), f.at("lateness_us.max"));
+    std::printf("RESULT step_cost_us p50 %.1f p99 %.1f max %.1f\n", f.at("step_cost_us.p50"),
+                f.at("step_cost_us.p99"), f.at("step_cost_us.max"));
+    for (Probe* p : {&dds, &lcm}) {
+      const Percentiles l = percentiles(p->latencies());
+      std::printf("RESULT wrench_to_state_us %s p50 %.1f p99 %.1f max %.1f (n %zu, unseen %d)\n",
+                  p == &dds ? "dds" : "lcm", l.p50, l.p99, l.max, l.n, p->lost());
+      const std::string bus = p == &dds ? "dds" : "lcm";
+      if (f.count(bus + "_command_to_state_us.p50")) {
+        std::printf(
+            "RESULT command_arrival_to_state_sent_us %s p50 %.1f p99 %.1f max %.1f "
+            "(rigidd's own measure)\n",
+            bus.c_str(), f.at(bus + "_command_to_state_us.p50"),
+            f.at(bus + "_command_to_state_us.p99"), f.at(bus + "_command_to_state_us.max"));
+      }
+      const Percentiles a = percentiles(p->server_legs()), b = percentiles(p->wire_legs());
+      std::printf(
+          "  of which: wrench sent -> state published p50 %.1f p99 %.1f max %.1f; "
+          "published -> received p50 %.1f p99 %.1f max %.1f\n",
+          a.p50, a.p99, a.max, b.p50, b.p99, b.max);
+    }
+  } else {
+    const double ticks = f.at("ticks");
+    const double loop_wall = f.at("wall_s");
+    std::printf("RESULT fast_ns_per_body_step %.2f (whole run: %.0f ticks in %.2f s)\n",
+                loop_wall * 1e9 / (ticks * o.bodies), ticks, loop_wall);
+    // Steady state: the per-second real-time factors from Stats (skipping the first second).
+    std::vector<double> per_second;
+    const auto stats = dds.stats();
+    for (std::size_t i = 1; i < stats.size(); ++i)
+      if (stats[i].rtf_last_second > 0) per_second.push_back(1e-3 / stats[i].rtf_last_second);
+    if (!per_second.empty()) {
+      const Percentiles p = percentiles(per_second);
+      std::printf("RESULT fast_ns_per_body_step_median_second %.2f (%zu seconds)\n",
+                  p.p50 * 1e9 / o.bodies, p.n);
+    }
+    std::printf("  states skipped by the publishers: dds %.0f lcm %.0f of %.0f offered\n",
+                f.count("dds_states_skipped") ? f.at("dds_states_skipped") : 0.0,
+                f.count("lcm_states_skipped") ? f.at("lcm_states_skipped") : 0.0, ticks / 10);
+  }
+  fs::remove_all(dir);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // As rigidd does: samples over 128 KiB would otherwise be mmapped and unmapped each time.
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "loop_bench: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,100 @@
+// Commands as the loop consumes them: validated, body names resolved to ids, fixed size and
+// trivially copyable, so they travel through the bounded queue without allocating. The wire
+// messages (transport/messages.hpp) carry strings and unchecked numbers; intake.hpp turns one into
+// the other.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+
+#include "transport/decode_status.hpp"
+#include "transport/messages.hpp"
+
+namespace rigid::loop {
+
+// Why a command was refused; mirrors transport::RejectCounts (Stats.rejected).
+enum class RejectReason : std::uint8_t {
+  kNonFinite,      // NaN or infinity in a number
+  kUnknownBody,    // no body with that id or name
+  kOverLimit,      // force, torque or ttl above the scene's limits
+  kUndecodable,    // the payload did not decode
+  kStaleSequence,  // sequence number not above the source's last one
+  kQueueFull,      // no room: command queue or wrench table full (a flood)
+  kInvalid,        // any other bad field (frame, ttl < 0, command, steps, rtf)
+};
+inline constexpr int kRejectReasonCount = 7;
+std::string_view to_string(RejectReason reason);
+
+using Vec3 = std::array<double, 3>;
+
+// A wrench that passed validation. body is a valid id; numbers are finite and within limits.
+struct Wrench {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  std::int32_t key = 0;
+  std::int32_t body = 0;
+  Vec3 force{};  // N, in force_frame
+  Vec3 point{};  // m, from the centre of mass, in B
+  transport::Frame force_frame = transport::Frame::kWorld;
+  Vec3 torque{};  // N m, in torque_frame
+  transport::Frame torque_frame = transport::Frame::kWorld;
+  double ttl = 0.0;           // s of simulated time; 0: one tick
+  std::int64_t stamp_ns = 0;  // the sender's stamp (CLOCK_REALTIME), passed through
+};
+
+// A control request whose fields are well-formed (known command, steps > 0, finite rtf > 0).
+// Whether it is allowed now is the loop's decision.
+struct Control {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  transport::ControlKind kind = transport::ControlKind::kNone;
+  std::int64_t steps = 0;
+  double rtf = 0.0;
+};
+
+struct Command {
+  enum class Kind : std::uint8_t { kWrench, kControl };
+  Kind kind = Kind::kWrench;
+  transport::Bus bus = transport::Bus::kDds;  // where it came from (a control is answered there)
+  std::int64_t arrival_ns = 0;                // CLOCK_MONOTONIC when the intake received it
+  Wrench wrench;                              // kind == kWrench
+  Control control;                            // kind == kControl
+};
+static_assert(std::is_trivially_copyable_v<Command>);
+
+// Why a control request was answered as it was; the publisher turns it into the reply's text.
+enum class ReplyNote : std::uint8_t {
+  kNone,
+  kStaleSequence,
+  kUnknownCommand,
+  kBadSteps,
+  kBadRtf,
+  kNonFinite,
+  kLockstepOnlySteps,   // lockstep: only step and reset
+  kRtfNeedsRealtime,    // set_rtf outside realtime mode
+  kStepNeedsPause,      // step while running
+  kStepInProgress,      // step while another is running
+  kInterruptedByReset,  // a step cut short by reset
+  kQueueFull,           // dropped: the command queue was full
+};
+std::string_view to_string(ReplyNote note);
+
+// The answer to one control request, routed to the bus it came from.
+struct Reply {
+  transport::Bus bus = transport::Bus::kDds;
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  transport::ControlKind kind = transport::ControlKind::kNone;
+  transport::Outcome outcome = transport::Outcome::kOk;
+  std::int64_t tick = 0;
+  ReplyNote note = ReplyNote::kNone;
+  std::int64_t detail = 0;  // a number the note refers to (the last sequence, the step count)
+};
+static_assert(std::is_trivially_copyable_v<Reply>);
+
+// The reply's text (empty for kOk without a note).
+std::string reply_message(const Reply& reply);
+
+}  // namespace rigid::loop

@@ -1,0 +1,173 @@
+#include "loop/command_validation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rigid::loop {
+namespace {
+
+bool finite(const Vec3& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+double norm(const Vec3& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+std::string num(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.9g", v);
+  return buffer;
+}
+
+std::string vec(const Vec3& v) {
+  return "(" + num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]) + ")";
+}
+
+bool known_frame(transport::Frame f) {
+  return f == transport::Frame::kWorld || f == transport::Frame::kBody;
+}
+
+template <class T>
+Checked<T> refuse(RejectReason reason, std::string detail) {
+  Checked<T> c;
+  c.reason = reason;
+  c.detail = std::move(detail);
+  return c;
+}
+
+}  // namespace
+
+BodyDirectory::BodyDirectory(std::vector<std::string> names) : names_(std::move(names)) {
+  sorted_.reserve(names_.size());
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    sorted_.emplace_back(names_[i], static_cast<int>(i));
+  std::sort(sorted_.begin(), sorted_.end());
+}
+
+int BodyDirectory::find(std::string_view name) const {
+  const auto it = std::lower_bound(
+      sorted_.begin(), sorted_.end(), name,
+      [](const std::pair<std::string, int>& entry, std::string_view n) { return entry.first < n; });
+  return it != sorted_.end() && it->first == name ? it->second : -1;
+}
+
+Checked<Wrench> CommandValidator::check(const transport::WrenchCommand& w) const {
+  using R = RejectReason;
+  // Built only for a refusal: a valid command (the common case) allocates nothing here.
+  const auto who = [&w] {
+    return "wrench from source " + std::to_string(w.source) + " seq " + std::to_string(w.seq) +
+           ": ";
+  };
+  if (!finite(w.force)) return refuse<Wrench>(R::kNonFinite, who() + "force " + vec(w.force));
+  if (!finite(w.point)) return refuse<Wrench>(R::kNonFinite, who() + "point " + vec(w.point));
+  if (!finite(w.torque)) return refuse<Wrench>(R::kNonFinite, who() + "torque " + vec(w.torque));
+  if (!std::isfinite(w.ttl)) return refuse<Wrench>(R::kNonFinite, who() + "ttl " + num(w.ttl));
+
+  int body = -1;
+  if (w.body_id >= 0) {
+    if (w.body_id >= bodies_.size()) {
+      return refuse<Wrench>(R::kUnknownBody, who() + "body_id " + std::to_string(w.body_id) +
+                                                 " (the scene has " +
+                                                 std::to_string(bodies_.size()) + " bodies)");
+    }
+    body = w.body_id;
+  } else {
+    body = bodies_.find(w.body_name);
+    if (body < 0) {
+      // The name is from the network: show a bounded, printable excerpt.
+      std::string shown;
+      for (char c : w.body_name.substr(0, 64))
+        shown += (c >= 0x20 && c < 0x7f) ? c : '?';
+      return refuse<Wrench>(R::kUnknownBody, who() + "body_name '" + shown + "'");
+    }
+  }
+
+  if (!known_frame(w.force_frame)) {
+    return refuse<Wrench>(R::kInvalid,
+                          who() + "force_frame " + std::to_string(static_cast<int>(w.force_frame)));
+  }
+  if (!known_frame(w.torque_frame)) {
+    return refuse<Wrench>(
+        R::kInvalid, who() + "torque_frame " + std::to_string(static_cast<int>(w.torque_frame)));
+  }
+  if (w.ttl < 0.0) return refuse<Wrench>(R::kInvalid, who() + "ttl " + num(w.ttl) + " < 0");
+
+  const double force = norm(w.force);
+  if (force > limits_.max_force) {
+    return refuse<Wrench>(R::kOverLimit, who() + "|force| " + num(force) + " N > max_force " +
+                                             num(limits_.max_force));
+  }
+  const double torque = norm(w.torque);
+  if (torque > limits_.max_torque) {
+    return refuse<Wrench>(R::kOverLimit, who() + "|torque| " + num(torque) + " N m > max_torque " +
+                                             num(limits_.max_torque));
+  }
+  // A modest force at a huge lever arm is a huge torque: bound its moment too.
+  const double moment = norm(cross(w.point, w.force));
+  if (moment > limits_.max_torque) {
+    return refuse<Wrench>(R::kOverLimit, who() + "|point x force| " + num(moment) +
+                                             " N m > max_torque " + num(limits_.max_torque));
+  }
+  if (w.ttl > limits_.max_ttl) {
+    return refuse<Wrench>(R::kOverLimit,
+                          who() + "ttl " + num(w.ttl) + " s > max_ttl " + num(limits_.max_ttl));
+  }
+
+  Checked<Wrench> c;
+  c.ok = true;
+  c.value = Wrench{w.source,      w.seq,    w.key,          body,  w.force,   w.point,
+                   w.force_frame, w.torque, w.torque_frame, w.ttl, w.stamp_ns};
+  return c;
+}
+
+Checked<Control> CommandValidator::check(const transport::ControlCommand& m,
+                                         ReplyNote* note) const {
+  using K = transport::ControlKind;
+  using R = RejectReason;
+  const auto who = [&m] {
+    return "control from source " + std::to_string(m.source) + " seq " + std::to_string(m.seq) +
+           ": ";
+  };
+  *note = ReplyNote::kNone;
+  switch (m.command) {
+    case K::kPause:
+    case K::kResume:
+    case K::kReset:
+      break;
+    case K::kStep:
+      if (m.steps < 1 || m.steps > kMaxSteps) {
+        *note = ReplyNote::kBadSteps;
+        return refuse<Control>(R::kInvalid, who() + "steps " + std::to_string(m.steps) +
+                                                " (expected 1 .. " + std::to_string(kMaxSteps) +
+                                                ")");
+      }
+      break;
+    case K::kSetRtf:
+      if (!std::isfinite(m.rtf)) {
+        *note = ReplyNote::kNonFinite;
+        return refuse<Control>(R::kNonFinite, who() + "rtf " + num(m.rtf));
+      }
+      if (!(m.rtf > 0.0) || m.rtf > kMaxRtf) {
+        *note = ReplyNote::kBadRtf;
+        return refuse<Control>(R::kInvalid,
+                               who() + "rtf " + num(m.rtf) + " (expected > 0 and <= 1000)");
+      }
+      break;
+    default:
+      *note = ReplyNote::kUnknownCommand;
+      return refuse<Control>(R::kInvalid,
+                             who() + "command " + std::to_string(static_cast<int>(m.command)));
+  }
+  Checked<Control> c;
+  c.ok = true;
+  c.value = Control{m.source, m.seq, m.command, m.steps, m.rtf};
+  return c;
+}
+
+}  // namespace rigid::loop

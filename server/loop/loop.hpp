@@ -1,0 +1,131 @@
+// The fixed-rate loop: the one thread that owns the physics World.
+//
+// Each tick: drain the command queue (wrenches into the wrench table, controls carried out and
+// answered), load the live wrenches into the world, run `substeps` physics steps, drop expired
+// wrenches, and hand a state to the publishers every `publish_every` ticks. Modes:
+//   realtime  ticks sleep to absolute deadlines on CLOCK_MONOTONIC (fixed_rate_schedule.hpp:
+//             overruns are counted and skipped; simulated time stays tick * dt), at a real-time
+//             factor a client can set;
+//   fast      ticks run back to back, as fast as the CPU allows;
+//   lockstep  ticks run only on step requests (for controllers that act every tick).
+// A tick in which a new wrench took effect also publishes its state, so a controller sees the
+// effect of its command one tick after it arrived instead of up to publish_every ticks later.
+// Paused (or in lockstep with no step requested) the loop waits on the command doorbell and
+// republishes the unchanged state once a second for late subscribers.
+//
+// run() allocates nothing: everything is sized in the constructor (tests/loop proves it).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "loop/bounded_queue.hpp"
+#include "loop/command.hpp"
+#include "loop/doorbell.hpp"
+#include "loop/fixed_rate_schedule.hpp"
+#include "loop/outbox.hpp"
+#include "loop/reject_counters.hpp"
+#include "loop/sequence_table.hpp"
+#include "loop/tick_stats.hpp"
+#include "loop/triple_buffer.hpp"
+#include "loop/wrench_table.hpp"
+#include "physics/world.hpp"
+#include "transport/messages.hpp"
+
+namespace rigid::loop {
+
+struct LoopConfig {
+  transport::Mode mode = transport::Mode::kRealtime;
+  double tick_dt = 1e-3;  // s: 1 / rate_hz
+  int substeps = 1;
+  int publish_every = 1;
+  std::size_t wrench_capacity = 4096;  // live (source, body, key) entries
+  std::size_t source_capacity = 1024;  // sources whose sequence numbers are remembered
+  // Realtime: sleep to this long before each deadline, then busy-wait to it. A sleeping thread
+  // wakes tens of microseconds late on these machines (timer and scheduler latency in a VM); the
+  // spin takes that out of tick lateness for spin_ns / period of one core. 0: sleep only.
+  std::int64_t spin_ns = 100'000;
+};
+
+class Loop {
+ public:
+  Loop(const physics::WorldSpec& spec, const LoopConfig& config, BoundedQueue<Command>& commands,
+       Doorbell& doorbell, RejectCounters& rejects, LoopOutput& output);
+  Loop(const Loop&) = delete;
+  Loop& operator=(const Loop&) = delete;
+
+  // Runs on the calling thread until request_stop(); returns within ~100 ms of it.
+  void run();
+
+  // Any thread.
+  void request_stop();
+  // Advances on every pass of the loop, ticking or waiting for commands (at least every 100 ms):
+  // the watchdog's proof that the loop thread is alive.
+  std::uint64_t heartbeat() const { return heartbeat_.load(std::memory_order_relaxed); }
+  std::int64_t commands_accepted() const { return accepted_.load(std::memory_order_relaxed); }
+  std::int64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
+  // One reader thread: the newest one-second summary, if one came since the last call.
+  bool take_summary(LoopSummary& out);
+
+  // After run() has returned (or before it started).
+  RunTotals totals() const;
+  const physics::World& world() const { return world_; }
+  std::int64_t tick() const { return tick_; }
+
+ private:
+  bool wants_tick() const;
+  double period_ns() const;  // of the wall clock between ticks, at the real-time factor
+  void drain();
+  void handle(const Command& c);
+  void handle_wrench(const Wrench& w, std::int64_t arrival_ns);
+  void handle_control(const Command& c);
+  void answer(const Command& c, transport::Outcome outcome, ReplyNote note = ReplyNote::kNone,
+              std::int64_t detail = 0);
+  void do_reset();
+  void step_tick();
+  void publish_state();
+  // Sleeps to config_.spin_ns before the deadline in slices of at most 100 ms, then spins to it;
+  // false if a stop was requested.
+  bool sleep_to(std::int64_t deadline_ns);
+  void idle_wait();
+  void roll_stats(std::int64_t now_ns);
+
+  physics::World world_;
+  const LoopConfig config_;
+  BoundedQueue<Command>& commands_;
+  Doorbell& doorbell_;
+  RejectCounters& rejects_;
+  LoopOutput& output_;
+
+  WrenchTable wrenches_;
+  SequenceTable wrench_sources_;
+  SequenceTable control_sources_;
+  transport::StateFrame frame_;
+  FixedRateSchedule schedule_;
+  TickStats stats_;
+  TripleBuffer<LoopSummary> summaries_;
+
+  std::int64_t tick_ = 0;
+  double rtf_ = 1.0;
+  bool paused_ = false;
+  bool on_schedule_ = false;  // realtime: the schedule's origin is valid
+  // Bodies that hold applied loads from the last rebuild (capacity: every wrench on its own body),
+  // and a per-body mark so that each is listed once: the rebuild clears just these, not every
+  // body of the world (30-60 us a tick with 10^4 bodies).
+  std::vector<int> loaded_;
+  std::vector<std::uint8_t> is_loaded_;
+  bool new_command_ = false;    // a wrench took effect since the last tick
+  std::int64_t step_left_ = 0;  // ticks left of the running step request
+  std::int64_t step_total_ = 0;
+  Command step_request_{};
+  std::int64_t last_publish_ns_ = 0;
+  std::int64_t first_arrival_ns_ = 0;  // of the commands not yet shown in a published state
+
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> heartbeat_{0};
+  std::atomic<std::int64_t> accepted_{0};
+  std::atomic<std::int64_t> overruns_{0};
+};
+
+}  // namespace rigid::loop

@@ -1,0 +1,28 @@
+// Where the loop and the intake hand what must go out on the buses. Implementations (the server's
+// publishers, a test's recorder) must return quickly and allocate nothing: they are called on the
+// loop thread.
+#pragma once
+
+#include <cstdint>
+
+#include "loop/command.hpp"
+#include "transport/messages.hpp"
+
+namespace rigid::loop {
+
+class ReplySink {
+ public:
+  virtual ~ReplySink() = default;
+  // The answer to a control request, for the bus in reply.bus.
+  virtual void reply(const Reply& reply) = 0;
+};
+
+class LoopOutput : public ReplySink {
+ public:
+  // A new state for every bus. The frame is only valid during the call (copy it).
+  // command_arrival_ns: when the earliest command that first shows in this state arrived
+  // (CLOCK_MONOTONIC), or 0: the publishers measure command-to-state latency with it.
+  virtual void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) = 0;
+};
+
+}  // namespace rigid::loop

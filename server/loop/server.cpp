@@ -1,0 +1,234 @@
+#include "loop/server.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "loop/clock.hpp"
+#include "loop/state_conversion.hpp"
+
+namespace rigid::loop {
+namespace {
+
+std::vector<std::string> body_names(const scene::Scene& scene) {
+  std::vector<std::string> names;
+  for (const physics::BodySpec& b : scene.world.bodies)
+    names.push_back(b.name);
+  return names;
+}
+
+LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) {
+  LoopConfig c;
+  c.mode = options.mode;
+  c.tick_dt = 1.0 / scene.rate_hz;
+  c.substeps = scene.substeps;
+  c.publish_every = scene.publish_every;
+  c.wrench_capacity = options.wrench_capacity;
+  c.spin_ns = options.spin_ns;
+  return c;
+}
+
+std::size_t bus_index(transport::Bus bus) {
+  return bus == transport::Bus::kDds ? 0 : 1;
+}
+
+std::string fixed(double v, int decimals) {
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
+  return buffer;
+}
+
+std::string us(std::int64_t ns) {
+  return fixed(static_cast<double>(ns) * 1e-3, 1);
+}
+
+}  // namespace
+
+Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log)
+    : log_(log),
+      options_(options),
+      bodies_(body_names(scene)),
+      validator_(bodies_, scene.limits),
+      commands_(options.command_capacity),
+      dds_intake_(transport::Bus::kDds, validator_, commands_, doorbell_, rejects_, *this),
+      lcm_intake_(transport::Bus::kLcm, validator_, commands_, doorbell_, rejects_, *this),
+      loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
+  scene_info_ = describe_scene(scene, loop_.world());
+  shape_state_frame(loop_.world(), shape_);
+}
+
+Server::~Server() {
+  stop();
+}
+
+transport::Receiver& Server::receiver(transport::Bus bus) {
+  return bus == transport::Bus::kDds ? static_cast<transport::Receiver&>(dds_intake_)
+                                     : static_cast<transport::Receiver&>(lcm_intake_);
+}
+
+void Server::add_transport(std::unique_ptr<transport::Transport> transport) {
+  publishers_.push_back(std::make_unique<Publisher>(*transport, shape_, log_));
+  by_bus_[bus_index(transport->bus())].store(publishers_.back().get(), std::memory_order_release);
+  transports_.push_back(std::move(transport));
+}
+
+void Server::start() {
+  if (started_) return;
+  started_ = true;
+  for (auto& t : transports_) {
+    if (t->publish(scene_info_) != transport::PublishResult::kOk) {
+      log_.line("cannot publish SceneInfo on " + std::string(to_string(t->bus())));
+    }
+  }
+  for (auto& p : publishers_)
+    p->start();
+  housekeeping_thread_ = std::thread([this] { housekeeping(); });
+  loop_thread_ = std::thread([this] { loop_.run(); });
+  if (options_.mode == transport::Mode::kRealtime && options_.realtime_priority) {
+    set_priorities();
+  }
+}
+
+void Server::set_priorities() {
+  sched_param param{};
+  param.sched_priority = options_.fifo_priority;
+  const int error = pthread_setschedparam(loop_thread_.native_handle(), SCHED_FIFO, &param);
+  if (error != 0) {
+    log_.line(std::string("loop thread: no real-time priority (") + std::strerror(error) +
+              "): running at normal priority; tick lateness may suffer under load");
+    return;
+  }
+  // The publishers just below the loop: a state (or a command's effect) then leaves within
+  // ~100 us of its tick even when other processes keep the CPUs busy, instead of waiting for
+  // the scheduler's next slice. They sleep between states and use ~1-2% of a core each.
+  param.sched_priority = options_.fifo_priority - 1;
+  bool publishers = true;
+  for (auto& p : publishers_)
+    publishers = pthread_setschedparam(p->native_handle(), SCHED_FIFO, &param) == 0 && publishers;
+  log_.line("loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority) +
+            (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : ""));
+}
+
+void Server::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  if (!started_) return;
+  loop_.request_stop();
+  if (loop_thread_.joinable()) loop_thread_.join();
+  totals_ = loop_.totals();
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (housekeeping_thread_.joinable()) housekeeping_thread_.join();
+  for (auto& p : publishers_)
+    p->stop();
+  rejects_.flush(log_);
+}
+
+bool Server::first_state_sent() const {
+  for (const auto& p : publishers_)
+    if (p->states_sent() > 0) return true;
+  return false;
+}
+
+void Server::offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) {
+  for (auto& p : publishers_)
+    p->offer(frame, command_arrival_ns);
+}
+
+void Server::reply(const Reply& reply) {
+  Publisher* p = by_bus_[bus_index(reply.bus)].load(std::memory_order_acquire);
+  if (p != nullptr) p->reply(reply);
+}
+
+transport::StatsReport Server::make_stats(const LoopSummary& s) const {
+  transport::StatsReport r;
+  r.tick = s.tick;
+  r.sim_time = s.sim_time;
+  r.mode = s.mode;
+  r.paused = s.paused;
+  r.rtf_last_second = s.rtf_last_second;
+  r.rtf_since_start = s.rtf_since_start;
+  r.lateness_p50_us = s.lateness_p50_us;
+  r.lateness_p99_us = s.lateness_p99_us;
+  r.lateness_max_us = s.lateness_max_us;
+  r.overruns = s.overruns;
+  r.step_cost_p50_us = s.step_cost_p50_us;
+  r.step_cost_max_us = s.step_cost_max_us;
+  for (const auto& p : publishers_)
+    r.states_skipped += p->states_skipped();
+  r.commands_accepted = loop_.commands_accepted();
+  r.rejected = rejects_.counts();
+  for (const auto& t : transports_) {
+    (t->bus() == transport::Bus::kDds ? r.dds : r.lcm) = t->counts();
+  }
+  return r;
+}
+
+void Server::housekeeping() {
+  constexpr auto kPeriod = std::chrono::milliseconds(100);
+  std::int64_t next_scene_ns = monotonic_ns() + 1'000'000'000;
+  std::int64_t overruns_logged = 0;
+  std::int64_t next_overrun_log_ns = 0;
+  LoopSummary summary;
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, kPeriod, [this] { return stopping_; });
+    if (stopping_) break;
+    lock.unlock();
+    rejects_.flush(log_);
+    const std::int64_t now = monotonic_ns();
+    if (loop_.take_summary(summary)) {
+      const transport::StatsReport stats = make_stats(summary);
+      for (auto& t : transports_)
+        (void)t->publish(stats);  // failures are counted by the transport
+    }
+    if (now >= next_scene_ns) {
+      // LCM has no durability: late joiners get the scene within a second.
+      for (auto& t : transports_)
+        if (t->bus() == transport::Bus::kLcm) (void)t->publish(scene_info_);
+      next_scene_ns = now + 1'000'000'000;
+    }
+    const std::int64_t overruns = loop_.overruns();
+    if (overruns > overruns_logged && now >= next_overrun_log_ns) {
+      log_.line("overrun: " + std::to_string(overruns - overruns_logged) +
+                " tick(s) skipped because the loop fell behind (" + std::to_string(overruns) +
+                " since start); simulated time lags the wall clock by as many ticks");
+      overruns_logged = overruns;
+      next_overrun_log_ns = now + 1'000'000'000;
+    }
+    lock.lock();
+  }
+}
+
+std::string Server::closing_line() const {
+  if (!totals_) return "stopped before starting";
+  const RunTotals& t = *totals_;
+  std::string line = "stopped: ticks=" + std::to_string(t.ticks_stepped) +
+                     " wall_s=" + fixed(t.wall_s, 3) + " sim_s=" + fixed(t.sim_s_stepped, 3) +
+                     " rtf=" + fixed(t.wall_s > 0 ? t.sim_s_stepped / t.wall_s : 0.0, 4) +
+                     " overruns=" + std::to_string(t.overruns);
+  line += " lateness_us p50=" + us(t.lateness.percentile(0.5)) +
+          " p99=" + us(t.lateness.percentile(0.99)) + " max=" + us(t.lateness.max());
+  line += " step_cost_us p50=" + us(t.step_cost.percentile(0.5)) +
+          " p99=" + us(t.step_cost.percentile(0.99)) + " max=" + us(t.step_cost.max());
+  for (const auto& p : publishers_) {
+    const std::string bus(to_string(p->bus()));
+    line += " " + bus + "_states_sent=" + std::to_string(p->states_sent()) + " " + bus +
+            "_states_skipped=" + std::to_string(p->states_skipped());
+    const Histogram& h = p->command_to_state();
+    line += " " + bus + "_command_to_state_us p50=" + us(h.percentile(0.5)) +
+            " p99=" + us(h.percentile(0.99)) + " max=" + us(h.max()) +
+            " n=" + std::to_string(h.count());
+  }
+  line += " commands_accepted=" + std::to_string(loop_.commands_accepted()) +
+          " commands_rejected=" + std::to_string(rejects_.total());
+  return line;
+}
+
+}  // namespace rigid::loop

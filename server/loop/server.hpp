@@ -1,0 +1,109 @@
+// The daemon's parts wired together: the loop and its thread, one intake per bus (the transports'
+// receivers), one publisher per transport, and a housekeeping thread that publishes Stats when the
+// loop closes a one-second window, republishes SceneInfo on LCM every second (DDS keeps it for
+// late joiners: transient-local), and writes deferred log lines (first refusals, overruns).
+//
+// Order of use: construct; create each transport with receiver(bus) and give it to
+// add_transport; start(); ... stop() (or the destructor). Threads: the loop, one per publisher,
+// housekeeping, and each transport's receive thread.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "loop/bounded_queue.hpp"
+#include "loop/command.hpp"
+#include "loop/command_validation.hpp"
+#include "loop/doorbell.hpp"
+#include "loop/intake.hpp"
+#include "loop/log.hpp"
+#include "loop/loop.hpp"
+#include "loop/outbox.hpp"
+#include "loop/publisher.hpp"
+#include "loop/reject_counters.hpp"
+#include "scene/scene.hpp"
+#include "transport/transport.hpp"
+
+namespace rigid::loop {
+
+struct ServerOptions {
+  transport::Mode mode = transport::Mode::kRealtime;
+  std::size_t command_capacity = 1024;  // queued commands between the transports and the loop
+  std::size_t wrench_capacity = 4096;   // live wrenches
+  // Realtime mode: ask for SCHED_FIFO for the loop thread at fifo_priority and the publishers one
+  // below (needs CAP_SYS_NICE; logged either way).
+  bool realtime_priority = true;
+  int fifo_priority = 10;
+  std::int64_t spin_ns = 100'000;  // LoopConfig::spin_ns
+};
+
+class Server final : private LoopOutput {
+ public:
+  Server(const scene::Scene& scene, const ServerOptions& options, Log& log);
+  ~Server() override;
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  // The receiver to create `bus`'s transport with. It may be called as soon as the transport
+  // exists: commands wait in the queue until start().
+  transport::Receiver& receiver(transport::Bus bus);
+  // Before start().
+  void add_transport(std::unique_ptr<transport::Transport> transport);
+
+  // Publishes SceneInfo and starts every thread.
+  void start();
+  // Stops the loop, then housekeeping, then the publishers (each sends what it holds). Idempotent.
+  void stop();
+
+  bool first_state_sent() const;
+  std::uint64_t heartbeat() const { return loop_.heartbeat(); }
+  const Loop& loop() const { return loop_; }
+  // One line summing up the run (after stop): ticks, lateness and step cost percentiles,
+  // overruns, states sent and skipped per bus, commands accepted and refused.
+  std::string closing_line() const;
+
+ private:
+  void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) override;
+  void reply(const Reply& reply) override;
+  void housekeeping();
+  transport::StatsReport make_stats(const LoopSummary& summary) const;
+  void set_priorities();
+
+  Log& log_;
+  const ServerOptions options_;
+  transport::SceneDescription scene_info_;
+  BodyDirectory bodies_;
+  CommandValidator validator_;
+  BoundedQueue<Command> commands_;
+  Doorbell doorbell_;
+  RejectCounters rejects_;
+  Intake dds_intake_;
+  Intake lcm_intake_;
+  Loop loop_;
+  transport::StateFrame shape_;
+  // Publishers by bus, for replies (set before start, read from any thread).
+  std::array<std::atomic<Publisher*>, 2> by_bus_{};
+  std::vector<std::unique_ptr<Publisher>> publishers_;
+  // After the publishers and intakes: destroyed first, so their receive threads end before what
+  // they call into goes away.
+  std::vector<std::unique_ptr<transport::Transport>> transports_;
+
+  std::mutex mutex_;  // guards stopping_ for the housekeeping wait
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  bool started_ = false;
+  bool stopped_ = false;
+  std::optional<RunTotals> totals_;
+  std::thread loop_thread_;
+  std::thread housekeeping_thread_;
+};
+
+}  // namespace rigid::loop

@@ -1,0 +1,105 @@
+#include "loop/state_conversion.hpp"
+
+#include <string>
+
+namespace rigid::loop {
+
+void shape_state_frame(const physics::World& world, transport::StateFrame& frame) {
+  const auto n = static_cast<std::size_t>(world.body_count());
+  frame.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    frame.ids[i] = static_cast<std::int32_t>(i);
+}
+
+void fill_state_frame(const physics::World& world, std::int64_t tick, double sim_time,
+                      transport::StateFrame& frame) {
+  frame.tick = tick;
+  frame.sim_time = sim_time;
+  const int n = world.body_count();
+  double* p = frame.position.data();
+  double* q = frame.orientation.data();
+  double* v = frame.linear_velocity.data();
+  double* w = frame.angular_velocity.data();
+  for (int i = 0; i < n; ++i, p += 3, q += 4, v += 3, w += 3) {
+    const physics::BodyState s = world.state(i);
+    p[0] = s.p_WBo.x();
+    p[1] = s.p_WBo.y();
+    p[2] = s.p_WBo.z();
+    q[0] = s.q_WB.w();
+    q[1] = s.q_WB.x();
+    q[2] = s.q_WB.y();
+    q[3] = s.q_WB.z();
+    v[0] = s.v_WBo.x();
+    v[1] = s.v_WBo.y();
+    v[2] = s.v_WBo.z();
+    w[0] = s.w_WB.x();
+    w[1] = s.w_WB.y();
+    w[2] = s.w_WB.z();
+  }
+}
+
+namespace {
+
+transport::ShapeKind shape_kind(physics::ShapeKind k) {
+  switch (k) {
+    case physics::ShapeKind::kSphere:
+      return transport::ShapeKind::kSphere;
+    case physics::ShapeKind::kBox:
+      return transport::ShapeKind::kBox;
+    case physics::ShapeKind::kCylinder:
+      return transport::ShapeKind::kCylinder;
+    case physics::ShapeKind::kEllipsoid:
+      return transport::ShapeKind::kEllipsoid;
+    case physics::ShapeKind::kCapsule:
+      return transport::ShapeKind::kCapsule;
+  }
+  return transport::ShapeKind::kNone;
+}
+
+// The wire's dims: sphere (radius, 0, 0); cylinder and capsule (radius, length, 0); box and
+// ellipsoid as given (the scene's size already matches).
+physics::Vec3 shape_dims(const physics::Shape& s) {
+  switch (s.kind) {
+    case physics::ShapeKind::kSphere:
+      return {s.size.x(), 0.0, 0.0};
+    case physics::ShapeKind::kCylinder:
+    case physics::ShapeKind::kCapsule:
+      return {s.size.x(), s.size.z(), 0.0};
+    case physics::ShapeKind::kBox:
+    case physics::ShapeKind::kEllipsoid:
+      break;
+  }
+  return s.size;
+}
+
+}  // namespace
+
+transport::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
+  transport::SceneDescription d;
+  const physics::WorldSpec& spec = scene.world;
+  d.scene_name = scene.path;
+  d.dt = 1.0 / scene.rate_hz;
+  d.substeps = scene.substeps;
+  d.publish_every = scene.publish_every;
+  d.gravity = {spec.g_W.x(), spec.g_W.y(), spec.g_W.z()};
+  d.integrator = std::string(world.integrator().name);
+  d.max_force = scene.limits.max_force;
+  d.max_torque = scene.limits.max_torque;
+  const std::size_t n = spec.bodies.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const physics::BodySpec& b = spec.bodies[i];
+    d.ids.push_back(static_cast<std::int32_t>(i));
+    d.names.push_back(b.name);
+    d.masses.push_back(b.mass);
+    const physics::Mat3 I = b.has_inertia ? b.I_B : physics::Mat3::Zero();
+    d.inertia.insert(d.inertia.end(), {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)});
+    const std::optional<physics::Shape>& shape =
+        i < scene.shapes.size() ? scene.shapes[i] : std::optional<physics::Shape>();
+    d.shape_kinds.push_back(shape ? shape_kind(shape->kind) : transport::ShapeKind::kNone);
+    const physics::Vec3 dims = shape ? shape_dims(*shape) : physics::Vec3::Zero();
+    d.shape_dims.insert(d.shape_dims.end(), {dims.x(), dims.y(), dims.z()});
+  }
+  return d;
+}
+
+}  // namespace rigid::loop

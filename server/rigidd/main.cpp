@@ -1,0 +1,167 @@
+// rigidd: the daemon. Wiring only: the command line (rigidd_options), the scene (scene/), the
+// loop and its threads (loop/server.hpp), the buses (transport/), signals (signal_watcher) and
+// systemd (systemd_notifier). The main thread ends up waiting for a signal, pinging systemd.
+#include <malloc.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "loop/log.hpp"
+#include "loop/server.hpp"
+#include "rigidd/rigidd_options.hpp"
+#include "rigidd/signal_watcher.hpp"
+#include "rigidd/systemd_notifier.hpp"
+#include "scene/scene.hpp"
+#include "transport/dds/dds_transport.hpp"
+#include "transport/lcm/lcm_transport.hpp"
+
+namespace {
+
+using namespace rigid;
+using namespace std::chrono_literals;
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+std::string describe(const scene::Scene& s, const rigidd::RigiddOptions& o) {
+  std::string text = s.path + " (" + std::to_string(s.world.bodies.size()) + " bodies, " +
+                     number(s.rate_hz) + " Hz, " + std::to_string(s.substeps) +
+                     " substep(s), state every " + std::to_string(s.publish_every) +
+                     " tick(s): " + number(s.rate_hz / s.publish_every) + " Hz)";
+  text += ", mode " + std::string(rigidd::mode_name(o.mode));
+  return text;
+}
+
+std::string buses(const rigidd::RigiddOptions& o, const std::string& lcm_url) {
+  std::string text;
+  if (o.dds) {
+    text += "dds domain " + std::to_string(o.dds_domain);
+    if (o.reliable_state) text += " (reliable state)";
+  }
+  if (o.lcm) text += std::string(text.empty() ? "" : ", ") + "lcm " + lcm_url;
+  if (!o.prefix.empty()) text += ", prefix " + o.prefix;
+  return text;
+}
+
+int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
+  // Block SIGTERM and SIGINT before any thread exists (the buses start threads), so that only
+  // the signalfd sees them.
+  rigidd::SignalWatcher signals({SIGTERM, SIGINT});
+  // A 1000-body state is ~110 KB: above glibc's default mmap threshold every serialization buffer
+  // would be mapped and unmapped, page-faulting on each publish (shared/NETWORKING.md).
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+
+  loop::FdLog log("rigidd");
+  for (const std::string& w : scene.warnings)
+    log.line(w);
+  loop::ServerOptions server_options;
+  server_options.mode = options.mode;
+  server_options.spin_ns = options.spin_us * 1000;
+  loop::Server server(scene, server_options, log);
+  const std::string lcm_url =
+      options.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : options.lcm_url;
+  try {
+    if (options.dds) {
+      transport::dds::Options o;
+      o.role = transport::Role::kServer;
+      o.domain = options.dds_domain;
+      o.prefix = options.prefix;
+      o.reliable_state = options.reliable_state;
+      server.add_transport(
+          transport::dds::make_transport(o, server.receiver(transport::Bus::kDds)));
+    }
+    if (options.lcm) {
+      transport::lcm::Options o;
+      o.role = transport::Role::kServer;
+      o.url = lcm_url;
+      o.prefix = options.prefix;
+      server.add_transport(
+          transport::lcm::make_transport(o, server.receiver(transport::Bus::kLcm)));
+    }
+  } catch (const transport::TransportError& e) {
+    log.line(e.what());
+    return 1;
+  }
+
+  rigidd::SystemdNotifier systemd;
+  server.start();
+  log.line("started: " + describe(scene, options) + "; " + buses(options, lcm_url));
+
+  bool ready = false;
+  std::uint64_t last_beat = server.heartbeat();
+  auto next_ping = std::chrono::steady_clock::now();
+  for (;;) {
+    const std::optional<int> signal = signals.wait(50ms);
+    if (signal) {
+      log.line(std::string(signal == SIGTERM ? "SIGTERM" : "SIGINT") + ": stopping");
+      break;
+    }
+    if (!ready && server.first_state_sent()) {
+      ready = true;
+      systemd.ready();
+      systemd.status("running " + describe(scene, options));
+      log.line("ready: first state published");
+    }
+    if (const auto period = systemd.watchdog_period()) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= next_ping) {
+        // Only a loop that has moved since the last ping earns one.
+        const std::uint64_t beat = server.heartbeat();
+        if (beat != last_beat) systemd.watchdog();
+        last_beat = beat;
+        next_ping = now + *period;
+      }
+    }
+  }
+  systemd.stopping();
+  server.stop();
+  log.line(server.closing_line());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  rigidd::RigiddOptions options;
+  scene::Scene scene;
+  try {
+    options = rigidd::parse_options(args);
+    if (options.help) {
+      std::cout << rigidd::usage();
+      return 0;
+    }
+    const std::string path =
+        options.scene ? *options.scene : rigidd::default_scene_path(RIGID_SOURCE_DIR);
+    scene = scene::load_scene(path);
+  } catch (const rigidd::UsageError& e) {
+    std::cerr << "rigidd: " << e.what() << '\n';
+    return 2;
+  } catch (const scene::SceneError& e) {
+    std::cerr << e.what() << '\n';
+    return 2;
+  }
+  if (options.check) {
+    for (const std::string& w : scene.warnings)
+      std::cerr << w << '\n';
+    std::cout << "rigidd: ok: " << describe(scene, options) << '\n';
+    return 0;
+  }
+  try {
+    return run(options, scene);
+  } catch (const std::exception& e) {
+    std::cerr << "rigidd: " << e.what() << '\n';
+    return 1;
+  }
+}

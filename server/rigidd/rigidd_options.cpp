@@ -1,0 +1,175 @@
+#include "rigidd/rigidd_options.hpp"
+
+#include <charconv>
+#include <filesystem>
+#include <system_error>
+
+#include "transport/topic.hpp"
+
+namespace rigid::rigidd {
+namespace {
+
+constexpr std::string_view kDefaultScene = "config/scenes/default.pbtxt";
+// DDS maps domain ids to UDP ports; with the default port mapping ids above 232 do not fit.
+constexpr std::uint32_t kMaxDomain = 232;
+
+std::string quoted(std::string_view s) {
+  return "'" + std::string(s) + "'";
+}
+
+void parse_transports(std::string_view list, RigiddOptions& o) {
+  o.dds = o.lcm = false;
+  std::string_view rest = list;
+  for (;;) {
+    const std::size_t comma = rest.find(',');
+    const std::string_view name = rest.substr(0, comma);
+    if (name == "dds") {
+      o.dds = true;
+    } else if (name == "lcm") {
+      o.lcm = true;
+    } else {
+      throw UsageError("--transport: expected a comma-separated list of dds and lcm, got " +
+                       quoted(list));
+    }
+    if (comma == std::string_view::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+}
+
+}  // namespace
+
+std::string_view mode_name(transport::Mode mode) {
+  switch (mode) {
+    case transport::Mode::kRealtime:
+      return "realtime";
+    case transport::Mode::kFast:
+      return "fast";
+    case transport::Mode::kLockstep:
+      return "lockstep";
+  }
+  return "?";
+}
+
+RigiddOptions parse_options(std::span<const std::string_view> args) {
+  RigiddOptions o;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string_view arg = args[i];
+    if (arg == "--help" || arg == "-h") {
+      o.help = true;
+      continue;
+    }
+    if (arg == "--check") {
+      o.check = true;
+      continue;
+    }
+    if (arg == "--reliable-state") {
+      o.reliable_state = true;
+      continue;
+    }
+    if (arg.empty() || arg[0] != '-') {
+      throw UsageError("unexpected argument " + quoted(arg) + " (the scene is given with --scene)");
+    }
+    std::string_view name = arg;
+    std::optional<std::string_view> value;
+    if (const auto eq = arg.find('='); eq != std::string_view::npos) {
+      name = arg.substr(0, eq);
+      value = arg.substr(eq + 1);
+    }
+    if (name != "--scene" && name != "--transport" && name != "--mode" && name != "--dds-domain" &&
+        name != "--lcm-url" && name != "--prefix" && name != "--spin-us") {
+      throw UsageError("unknown option " + quoted(name) + " (see --help)");
+    }
+    if (!value) {
+      if (i + 1 >= args.size()) throw UsageError(std::string(name) + " needs a value");
+      value = args[++i];
+    }
+    if (name == "--scene") {
+      if (value->empty()) throw UsageError("--scene: expected a file name, got ''");
+      o.scene = std::string(*value);
+    } else if (name == "--transport") {
+      parse_transports(*value, o);
+    } else if (name == "--mode") {
+      if (*value == "realtime") {
+        o.mode = transport::Mode::kRealtime;
+      } else if (*value == "fast") {
+        o.mode = transport::Mode::kFast;
+      } else if (*value == "lockstep") {
+        o.mode = transport::Mode::kLockstep;
+      } else {
+        throw UsageError("--mode: expected realtime, fast or lockstep, got " + quoted(*value));
+      }
+    } else if (name == "--dds-domain") {
+      std::uint32_t d = 0;
+      const auto [end, ec] = std::from_chars(value->data(), value->data() + value->size(), d);
+      if (ec != std::errc() || end != value->data() + value->size() || d > kMaxDomain) {
+        throw UsageError("--dds-domain: expected an integer 0 .. 232, got " + quoted(*value));
+      }
+      o.dds_domain = d;
+    } else if (name == "--spin-us") {
+      std::int64_t us = 0;
+      const auto [end, ec] = std::from_chars(value->data(), value->data() + value->size(), us);
+      if (ec != std::errc() || end != value->data() + value->size() || us < 0 || us > 1'000'000) {
+        throw UsageError("--spin-us: expected microseconds 0 .. 1000000, got " + quoted(*value));
+      }
+      o.spin_us = us;
+    } else if (name == "--lcm-url") {
+      if (value->find("://") == std::string_view::npos) {
+        throw UsageError(
+            "--lcm-url: expected an LCM URL such as udpm://239.255.76.67:7667?ttl=0, "
+            "got " +
+            quoted(*value));
+      }
+      o.lcm_url = std::string(*value);
+    } else {
+      if (!transport::is_valid_prefix(*value)) {
+        throw UsageError("--prefix: expected letters, digits and '_' only, got " + quoted(*value));
+      }
+      o.prefix = std::string(*value);
+    }
+  }
+  return o;
+}
+
+std::string default_scene_path(const std::string& source_dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(fs::path(kDefaultScene), ec)) return std::string(kDefaultScene);
+  const fs::path built_from = fs::path(source_dir) / kDefaultScene;
+  if (fs::is_regular_file(built_from, ec)) return built_from.string();
+  throw UsageError("no --scene given, and " + std::string(kDefaultScene) +
+                   " is neither under the current directory nor under " + source_dir +
+                   " (give --scene FILE)");
+}
+
+std::string usage() {
+  return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
+              [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
+              [--spin-us N] [--check]
+
+Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
+and takes wrenches (forces at body points) and control requests from clients on both buses.
+
+  --scene FILE       the scene (protobuf text format); default config/scenes/default.pbtxt under
+                     the current directory, else under the source tree rigidd was built from
+  --transport LIST   the buses: dds, lcm or dds,lcm (default both)
+  --mode MODE        realtime: ticks at the scene's rate_hz (default); fast: as fast as possible;
+                     lockstep: a tick only on step requests
+  --dds-domain N     DDS domain id, 0 .. 232 (default 0); CYCLONEDDS_URI configures the network
+  --lcm-url URL      LCM URL (default udpm://239.255.76.67:7667?ttl=0: stays on this host)
+  --prefix P         prefix for topic names (P/rigid/state, P_RIGID_STATE), so that two servers
+                     can share a network; letters, digits and '_'
+  --reliable-state   publish the state reliably on DDS instead of best-effort keep-last 1
+  --spin-us N        realtime mode: sleep to N microseconds before each tick's deadline, then
+                     busy-wait to it, so that wake-up latency does not make ticks late (default
+                     100; 0: sleep only)
+  --check            validate the command line and the scene, print a summary and exit
+  -h, --help         show this help
+
+Signals: SIGTERM or SIGINT stop it cleanly (exit status 0). Under systemd (Type=notify) it sends
+READY=1 after the first state is published, WATCHDOG=1 while its loop runs, STOPPING=1 on exit.
+Exit status: 0 stopped by a signal (or --check passed), 1 a bus could not be set up, 2 a bad
+command line or scene.
+)";
+}
+
+}  // namespace rigid::rigidd

@@ -1,0 +1,49 @@
+// rigidd's command line: what it accepts and its checks (every error is one line naming the option
+// and its value; rigidd then exits with status 2 before anything runs).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "transport/messages.hpp"
+
+namespace rigid::rigidd {
+
+struct RigiddOptions {
+  std::optional<std::string> scene;  // --scene; unset: the default scene (default_scene_path)
+  bool dds = true;                   // --transport
+  bool lcm = true;
+  transport::Mode mode = transport::Mode::kRealtime;
+  std::uint32_t dds_domain = 0;
+  std::string lcm_url;  // empty: transport::lcm::kDefaultUrl
+  std::string prefix;
+  bool reliable_state = false;
+  std::int64_t spin_us = 100;  // realtime: busy-wait this long before each tick's deadline
+  bool check = false;
+  bool help = false;
+};
+
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Parses the arguments after the program name. Options take their value as the next argument or
+// after '=' (--mode=fast). Throws UsageError.
+RigiddOptions parse_options(std::span<const std::string_view> args);
+
+// The scene rigidd runs without --scene: config/scenes/default.pbtxt under the current directory
+// if it exists (running from a checkout), else under `source_dir` (the tree rigidd was built from,
+// so it also works from the build directory). Throws UsageError naming both places if neither has
+// it.
+std::string default_scene_path(const std::string& source_dir);
+
+std::string_view mode_name(transport::Mode mode);
+
+std::string usage();
+
+}  // namespace rigid::rigidd

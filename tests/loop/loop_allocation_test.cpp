@@ -1,0 +1,254 @@
+// "No allocation on the loop thread after start-up", proved: operator new is replaced in this test
+// program to count the allocations made on the thread that runs Loop::run(), while the loop is
+// driven through everything it does: ticks in each mode, wrenches (new, replaced, expiring, stale),
+// every control request, resets, refusals, and the hand-off to real Publishers (over a fake bus).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <new>
+#include <thread>
+
+#include "loop/publisher.hpp"
+#include "loop_harness.hpp"
+
+namespace {
+
+// Counting is per thread: only the loop thread turns it on.
+thread_local bool t_counting = false;
+std::atomic<long> g_loop_allocations{0};
+
+void* allocate(std::size_t size) {
+  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+
+}  // namespace
+
+void* operator new(std::size_t size) {
+  return allocate(size);
+}
+void* operator new[](std::size_t size) {
+  return allocate(size);
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size == 0 ? 1 : size);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace rigid::loop {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::Harness;
+using testing::make_scene;
+using transport::ControlKind;
+using transport::Mode;
+
+// A bus that accepts everything (the publisher thread may allocate; only the loop thread counts).
+class NullTransport final : public transport::Transport {
+ public:
+  transport::Bus bus() const override { return transport::Bus::kDds; }
+  transport::Role role() const override { return transport::Role::kServer; }
+  transport::PublishResult publish(const transport::StateFrame&) override { return ok(); }
+  transport::PublishResult publish(const transport::StatsReport&) override { return ok(); }
+  transport::PublishResult publish(const transport::SceneDescription&) override { return ok(); }
+  transport::PublishResult publish(const transport::ControlReply&) override { return ok(); }
+  transport::PublishResult publish(const transport::WrenchCommand&) override { return ok(); }
+  transport::PublishResult publish(const transport::ControlCommand&) override { return ok(); }
+  transport::TransportCounts counts() const override { return {}; }
+
+ private:
+  static transport::PublishResult ok() { return transport::PublishResult::kOk; }
+};
+
+// What the server's output does: every state to every publisher, replies to the bus's publisher.
+class PublishingRecorder : public testing::Recorder {
+ public:
+  PublishingRecorder(Publisher& a, Publisher& b) : a_(a), b_(b) {}
+  void offer_state(const transport::StateFrame& f, std::int64_t arrival_ns) override {
+    a_.offer(f, arrival_ns);
+    b_.offer(f, arrival_ns);
+    Recorder::offer_state(f, arrival_ns);
+  }
+  void reply(const Reply& r) override {
+    a_.reply(r);
+    Recorder::reply(r);
+  }
+
+ private:
+  Publisher& a_;
+  Publisher& b_;
+};
+
+const char* kScene = R"(
+world { rate_hz: 1000 publish_every: 10 gravity { z: -9.81 } limits { max_ttl: 10 } }
+body { name: "puck" mass: 2 }
+body { name: "sphere" mass: 1 inertia { x: 2 y: 2 z: 2 } }
+body { name: "top" mass: 1 inertia { x: 1 y: 1 z: 2 } angular_velocity { x: 0.1 z: 5 } }
+body { name: "brick" mass: 1 inertia { x: 1 y: 2 z: 3 } angular_velocity { x: 0.1 y: 3 } }
+body { name: "rocket" mass: 5 inertia { x: 0.45 y: 0.42 z: 0.05 } angular_drag: 0.02 }
+force { body: "rocket" force { z: 10 } point { x: 0.02 z: -0.5 } frame: BODY }
+)";
+
+Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std::int32_t key,
+                   double ttl) {
+  Wrench w;
+  w.source = source;
+  w.seq = seq;
+  w.body = body;
+  w.key = key;
+  w.force = {1, 2, 3};
+  w.point = {0.1, 0.2, 0.3};
+  w.force_frame = (seq % 2) ? transport::Frame::kBody : transport::Frame::kWorld;
+  w.torque = {0.01 * static_cast<double>(seq % 3), 0, 0};
+  w.ttl = ttl;
+  return w;
+}
+
+// A loop wired as the server wires it (states to two publishers, replies to one), fed through
+// its queue like the intake feeds it.
+struct Rig {
+  Rig(const scene::Scene& s, Mode m)
+      : shape(shaped(s)),
+        a(bus_a, shape, log),
+        b(bus_b, shape, log),
+        out(a, b),
+        loop(s.world, Harness::config(s, m), queue, doorbell, rejects, out) {
+    out.last = shape;
+  }
+  static transport::StateFrame shaped(const scene::Scene& s) {
+    transport::StateFrame f;
+    f.resize(s.world.bodies.size());
+    return f;
+  }
+  void push(const Command& c) {
+    if (queue.try_push(c)) doorbell.ring();
+  }
+  void control(ControlKind k, std::int64_t seq, std::int64_t steps = 0, double rtf = 0) {
+    Command c;
+    c.kind = Command::Kind::kControl;
+    c.control = Control{100, seq, k, steps, rtf};
+    push(c);
+  }
+
+  NullTransport bus_a, bus_b;
+  MemoryLog log;
+  transport::StateFrame shape;
+  Publisher a, b;
+  PublishingRecorder out;
+  BoundedQueue<Command> queue{256};
+  Doorbell doorbell;
+  RejectCounters rejects;
+  Loop loop;
+};
+
+// Drives the loop through a varied stream for a while: wrenches on every body with a few keys and
+// sources (inserted, replaced, expiring), repeated sequence numbers (refused on the loop thread),
+// every control request (some refused: a step while one runs, stale ones), then an idle second
+// (paused or lockstep: it republishes and rolls its statistics window).
+void expect_no_allocations(Mode mode) {
+  Rig rig(make_scene(kScene), mode);
+  rig.a.start();
+  rig.b.start();
+  g_loop_allocations = 0;
+  std::thread loop_thread([&] {
+    t_counting = true;
+    rig.loop.run();
+    t_counting = false;
+  });
+
+  std::int64_t seq = 1, control_seq = 1;
+  const auto end = std::chrono::steady_clock::now() + 600ms;
+  for (int round = 0; std::chrono::steady_clock::now() < end; ++round) {
+    for (int i = 0; i < 8; ++i, ++seq) {
+      Command c;
+      c.wrench =
+          make_wrench(seq % 3, seq, static_cast<std::int32_t>(seq % 5),
+                      static_cast<std::int32_t>(seq % 4), static_cast<double>(seq % 5) * 0.003);
+      rig.push(c);
+    }
+    Command stale;
+    stale.wrench = make_wrench(0, 1, 0, 0, 0.0);
+    rig.push(stale);
+    switch (round % 6) {
+      case 0:
+        rig.control(ControlKind::kPause, control_seq++);
+        break;
+      case 1:
+        rig.control(ControlKind::kStep, control_seq++, 7);
+        break;
+      case 2:
+        rig.control(ControlKind::kStep, control_seq++, 3);
+        rig.control(ControlKind::kResume, control_seq++);
+        break;
+      case 3:
+        rig.control(ControlKind::kSetRtf, control_seq++, 0, round % 2 ? 2.0 : 1.0);
+        break;
+      case 4:
+        if (round % 4 == 0) rig.control(ControlKind::kReset, control_seq++);
+        break;
+      default:
+        rig.control(ControlKind::kPause, control_seq - 5);  // stale
+        break;
+    }
+    std::this_thread::sleep_for(2ms);
+  }
+  rig.control(ControlKind::kPause, control_seq++);
+  std::this_thread::sleep_for(1200ms);
+  rig.loop.request_stop();
+  loop_thread.join();
+  rig.a.stop();
+  rig.b.stop();
+
+  EXPECT_EQ(g_loop_allocations.load(), 0) << "allocations on the loop thread";
+  // The run did what it was meant to: ticks, accepted and refused commands, replies, states.
+  EXPECT_GT(rig.loop.totals().ticks_stepped, 100);
+  EXPECT_GT(rig.loop.commands_accepted(), 100);
+  EXPECT_GT(rig.rejects.counts().stale_sequence, 10);
+  EXPECT_GT(rig.out.replies.size(), 20u);
+  EXPECT_GT(rig.a.states_sent(), 10);
+  EXPECT_GT(rig.b.states_sent(), 10);
+}
+
+TEST(LoopAllocation, RealtimeModeAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kRealtime);
+}
+
+TEST(LoopAllocation, FastModeAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kFast);
+}
+
+TEST(LoopAllocation, LockstepModeAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kLockstep);
+}
+
+TEST(LoopAllocation, TheCounterSeesAllocations) {
+  // The instrument works: an allocation on a counting thread is counted.
+  g_loop_allocations = 0;
+  std::thread t([] {
+    t_counting = true;
+    auto* p = new int(3);
+    delete p;
+    t_counting = false;
+  });
+  t.join();
+  EXPECT_EQ(g_loop_allocations.load(), 1);
+}
+
+}  // namespace
+}  // namespace rigid::loop

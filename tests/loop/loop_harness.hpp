@@ -1,0 +1,139 @@
+// Runs a Loop on its own thread with an in-memory output, and feeds it commands as the intake
+// would. Storage is reserved up front so that recording allocates nothing (the allocation test
+// runs the loop thread through it).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "loop/loop.hpp"
+#include "scene/scene.hpp"
+
+namespace rigid::loop::testing {
+
+class Recorder : public LoopOutput {
+ public:
+  Recorder() {
+    ticks.reserve(1 << 20);
+    replies.reserve(1 << 12);
+  }
+  void offer_state(const transport::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
+    {
+      const std::lock_guard lock(mutex);
+      last = frame;  // same shape every time: reuses the vectors
+      if (ticks.size() < ticks.capacity()) ticks.push_back(frame.tick);
+      ++states;
+    }
+    changed.notify_all();
+  }
+  void reply(const Reply& r) override {
+    {
+      const std::lock_guard lock(mutex);
+      if (replies.size() < replies.capacity()) replies.push_back(r);
+    }
+    changed.notify_all();
+  }
+
+  std::mutex mutex;
+  std::condition_variable changed;
+  transport::StateFrame last;
+  std::vector<std::int64_t> ticks;
+  std::vector<Reply> replies;
+  std::int64_t states = 0;
+};
+
+inline scene::Scene make_scene(const std::string& text) {
+  return scene::parse_scene(text, "test.pbtxt");
+}
+
+class Harness {
+ public:
+  Harness(const scene::Scene& scene, transport::Mode mode, std::size_t queue = 256)
+      : queue_(queue), loop_(scene.world, config(scene, mode), queue_, doorbell_, rejects_, out) {
+    // Give the recorder's frame its final shape before the loop runs.
+    out.last.resize(static_cast<std::size_t>(scene.world.bodies.size()));
+  }
+  ~Harness() { stop(); }
+
+  static LoopConfig config(const scene::Scene& scene, transport::Mode mode) {
+    LoopConfig c;
+    c.mode = mode;
+    c.tick_dt = 1.0 / scene.rate_hz;
+    c.substeps = scene.substeps;
+    c.publish_every = scene.publish_every;
+    return c;
+  }
+
+  // `body` runs the loop; the default is loop.run(), a test may wrap it.
+  void start(std::function<void(Loop&)> body = [](Loop& l) { l.run(); }) {
+    thread_ = std::thread([this, body] { body(loop_); });
+  }
+  void stop() {
+    if (!thread_.joinable()) return;
+    loop_.request_stop();
+    thread_.join();
+  }
+
+  void push(const Command& c) {
+    ASSERT_TRUE(queue_.try_push(c));
+    doorbell_.ring();
+  }
+  void control(transport::ControlKind kind, std::int64_t seq, std::int64_t steps = 0,
+               double rtf = 0.0, std::int64_t source = 100) {
+    Command c;
+    c.kind = Command::Kind::kControl;
+    c.control = Control{source, seq, kind, steps, rtf};
+    push(c);
+  }
+  void wrench(const Wrench& w) {
+    Command c;
+    c.kind = Command::Kind::kWrench;
+    c.wrench = w;
+    push(c);
+  }
+
+  // Waits (at most `patience`) until pred() holds, with the recorder locked.
+  template <class Pred>
+  bool wait(Pred pred, std::chrono::milliseconds patience = std::chrono::milliseconds(5000)) {
+    std::unique_lock lock(out.mutex);
+    return out.changed.wait_for(lock, patience, pred);
+  }
+  // Waits for the reply to `seq` and returns it (outcome kFailed with seq -1 if none came).
+  Reply reply_to(std::int64_t seq) {
+    Reply found{};
+    found.seq = -1;
+    found.outcome = transport::Outcome::kFailed;
+    wait([&] {
+      for (const Reply& r : out.replies)
+        if (r.seq == seq) {
+          found = r;
+          return true;
+        }
+      return false;
+    });
+    return found;
+  }
+  transport::StateFrame last_state() {
+    const std::lock_guard lock(out.mutex);
+    return out.last;
+  }
+
+  Loop& loop() { return loop_; }
+  RejectCounters& rejects() { return rejects_; }
+  Recorder out;
+
+ private:
+  BoundedQueue<Command> queue_;
+  Doorbell doorbell_;
+  RejectCounters rejects_;
+  Loop loop_;
+  std::thread thread_;
+};
+
+}  // namespace rigid::loop::testing

@@ -1,0 +1,261 @@
+// The loop's behaviour with an in-memory output: lockstep stepping, control requests and their
+// answers, wrenches (replace by key, time to live, stale sequence numbers) acting on the world
+// exactly as World::add_force would, publishing cadence, pause/resume/reset in realtime.
+#include "loop/loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "loop/clock.hpp"
+#include "loop_harness.hpp"
+
+namespace rigid::loop {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::Harness;
+using testing::make_scene;
+using transport::ControlKind;
+using transport::Mode;
+using transport::Outcome;
+
+// A point mass of 2 kg and a general body at rest, no gravity, 1 kHz, a state every 10 ticks.
+const char* kScene = R"(
+world { rate_hz: 1000 publish_every: 10 gravity { z: 0 } limits { max_ttl: 10 } }
+body { name: "puck" mass: 2 }
+body { name: "brick" mass: 1 inertia { x: 1 y: 2 z: 3 } orientation { w: 0.7071067811865476 z: 0.7071067811865476 } }
+)";
+
+Wrench push_puck(std::int64_t seq, double fx, double ttl, std::int32_t key = 0) {
+  Wrench w;
+  w.source = 1;
+  w.seq = seq;
+  w.key = key;
+  w.body = 0;
+  w.force = {fx, 0, 0};
+  w.ttl = ttl;
+  return w;
+}
+
+TEST(Loop, LockstepAdvancesExactlyTheTicksRequested) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  ASSERT_TRUE(h.wait([&] { return h.out.states >= 1; }));  // tick 0 is published at start
+  EXPECT_EQ(h.last_state().tick, 0);
+  std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(h.loop().heartbeat() > 0, true);
+  EXPECT_EQ(h.last_state().tick, 0);  // nothing moves without a step
+
+  h.control(ControlKind::kStep, 1, 7);
+  const Reply r = h.reply_to(1);
+  EXPECT_EQ(r.outcome, Outcome::kOk);
+  EXPECT_EQ(r.tick, 7);
+  EXPECT_EQ(h.last_state().tick, 7);  // the final tick's state is published before the reply
+  h.control(ControlKind::kStep, 2, 3);
+  EXPECT_EQ(h.reply_to(2).tick, 10);
+  EXPECT_NEAR(h.last_state().sim_time, 0.010, 1e-15);
+  h.stop();
+  EXPECT_EQ(h.loop().tick(), 10);
+  EXPECT_EQ(h.loop().world().step_count(), 10);
+}
+
+TEST(Loop, LockstepRefusesPauseResumeAndRtf) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  h.control(ControlKind::kPause, 1);
+  h.control(ControlKind::kResume, 2);
+  h.control(ControlKind::kSetRtf, 3, 0, 2.0);
+  EXPECT_EQ(h.reply_to(1).outcome, Outcome::kNotAllowed);
+  EXPECT_EQ(h.reply_to(2).outcome, Outcome::kNotAllowed);
+  EXPECT_EQ(h.reply_to(3).outcome, Outcome::kNotAllowed);
+  EXPECT_EQ(h.reply_to(3).note, ReplyNote::kRtfNeedsRealtime);
+}
+
+TEST(Loop, AWrenchActsForItsTimeToLiveThenStops) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  // 4 N on 2 kg for 5 ticks of 1 ms: dv = 2 m/s^2 * 5 ms = 0.01 m/s.
+  h.wrench(push_puck(1, 4.0, 0.005));
+  h.control(ControlKind::kStep, 1, 20);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+  EXPECT_NEAR(h.last_state().linear_velocity[0], 0.01, 1e-15);
+  // ttl 0: exactly one tick.
+  h.wrench(push_puck(2, 4.0, 0.0));
+  h.control(ControlKind::kStep, 2, 20);
+  ASSERT_EQ(h.reply_to(2).outcome, Outcome::kOk);
+  EXPECT_NEAR(h.last_state().linear_velocity[0], 0.012, 1e-15);
+}
+
+TEST(Loop, TheSameKeyReplacesAndOtherKeysAdd) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  h.wrench(push_puck(1, 2.0, 1.0));
+  h.wrench(push_puck(2, 4.0, 1.0));             // same key: replaces the 2 N
+  h.wrench(push_puck(3, 1.0, 1.0, /*key=*/1));  // another key: adds
+  h.control(ControlKind::kStep, 1, 10);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+  // (4 + 1) N / 2 kg * 10 ms
+  EXPECT_NEAR(h.last_state().linear_velocity[0], 0.025, 1e-15);
+  EXPECT_EQ(h.loop().commands_accepted(), 4);
+}
+
+TEST(Loop, StaleSequenceNumbersAreRefusedAndNeverReachTheWorld) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  h.wrench(push_puck(5, 2.0, 1.0));
+  h.wrench(push_puck(5, 100.0, 1.0));  // repeated
+  h.wrench(push_puck(3, 100.0, 1.0));  // backwards
+  h.control(ControlKind::kStep, 9, 10);
+  h.control(ControlKind::kStep, 8, 10);  // backwards control: answered invalid
+  ASSERT_EQ(h.reply_to(9).outcome, Outcome::kOk);
+  const Reply stale = h.reply_to(8);
+  EXPECT_EQ(stale.outcome, Outcome::kInvalid);
+  EXPECT_EQ(stale.note, ReplyNote::kStaleSequence);
+  EXPECT_EQ(reply_message(stale), "stale sequence number (the source's last one is 9)");
+  EXPECT_NEAR(h.last_state().linear_velocity[0], 0.01, 1e-15);
+  EXPECT_EQ(h.rejects().counts().stale_sequence, 3);
+}
+
+TEST(Loop, BodyForceAtALeverArmMatchesTheWorldDirectly) {
+  // The loop must hand the wrench to the physics unchanged (frames included): compare with a
+  // World driven by hand.
+  const scene::Scene s = make_scene(kScene);
+  Harness h(s, Mode::kLockstep);
+  h.start();
+  Wrench w;
+  w.source = 3;
+  w.seq = 1;
+  w.body = 1;
+  w.force = {0, 0, 2};
+  w.point = {0.5, 0, 0};
+  w.force_frame = transport::Frame::kBody;
+  w.torque = {0.1, 0, 0};
+  w.torque_frame = transport::Frame::kWorld;
+  w.ttl = 1.0;
+  h.wrench(w);
+  h.control(ControlKind::kStep, 1, 25);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+
+  physics::World ref(s.world);
+  for (int i = 0; i < 25; ++i) {
+    ref.clear_applied();
+    ref.add_force(1, {0, 0, 2}, {0.5, 0, 0}, physics::Frame::kBody);
+    ref.add_torque(1, {0.1, 0, 0}, physics::Frame::kWorld);
+    ref.step();
+  }
+  const physics::BodyState b = ref.state(1);
+  const transport::StateFrame f = h.last_state();
+  EXPECT_EQ(f.angular_velocity[3], b.w_WB.x());
+  EXPECT_EQ(f.angular_velocity[4], b.w_WB.y());
+  EXPECT_EQ(f.angular_velocity[5], b.w_WB.z());
+  EXPECT_EQ(f.orientation[4], b.q_WB.w());
+  EXPECT_EQ(f.linear_velocity[5], b.v_WBo.z());
+}
+
+TEST(Loop, AStepWhileAnotherRunsIsRefusedAndResetInterruptsIt) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  h.control(ControlKind::kStep, 1, 1'000'000'000);
+  h.control(ControlKind::kStep, 2, 5);
+  const Reply busy = h.reply_to(2);
+  EXPECT_EQ(busy.outcome, Outcome::kNotAllowed);
+  EXPECT_EQ(busy.note, ReplyNote::kStepInProgress);
+  h.control(ControlKind::kReset, 3);
+  const Reply cut = h.reply_to(1);
+  EXPECT_EQ(cut.outcome, Outcome::kFailed);
+  EXPECT_EQ(cut.note, ReplyNote::kInterruptedByReset);
+  EXPECT_EQ(h.reply_to(3).outcome, Outcome::kOk);
+  EXPECT_EQ(h.reply_to(3).tick, 0);
+  EXPECT_EQ(h.last_state().tick, 0);
+}
+
+TEST(Loop, RealtimePauseStepResumeReset) {
+  Harness h(make_scene(kScene), Mode::kRealtime);
+  h.start();
+  ASSERT_TRUE(h.wait([&] { return h.out.last.tick >= 50; }));
+
+  h.control(ControlKind::kStep, 1, 5);  // running: a step needs a pause first
+  EXPECT_EQ(h.reply_to(1).outcome, Outcome::kNotAllowed);
+  EXPECT_EQ(h.reply_to(1).note, ReplyNote::kStepNeedsPause);
+
+  h.control(ControlKind::kPause, 2);
+  const Reply paused = h.reply_to(2);
+  ASSERT_EQ(paused.outcome, Outcome::kOk);
+  std::this_thread::sleep_for(100ms);
+  EXPECT_LE(h.last_state().tick, paused.tick);  // no tick while paused
+
+  h.control(ControlKind::kStep, 3, 3);
+  const Reply stepped = h.reply_to(3);
+  EXPECT_EQ(stepped.outcome, Outcome::kOk);
+  EXPECT_EQ(stepped.tick, paused.tick + 3);
+  EXPECT_EQ(h.last_state().tick, paused.tick + 3);
+
+  h.control(ControlKind::kResume, 4);
+  ASSERT_EQ(h.reply_to(4).outcome, Outcome::kOk);
+  ASSERT_TRUE(h.wait([&] { return h.out.last.tick >= stepped.tick + 30; }));
+
+  h.control(ControlKind::kReset, 5);
+  ASSERT_EQ(h.reply_to(5).outcome, Outcome::kOk);
+  EXPECT_EQ(h.reply_to(5).tick, 0);
+  // Running again from the scene's initial state.
+  ASSERT_TRUE(h.wait([&] { return h.out.last.tick >= 20; }));
+}
+
+TEST(Loop, RealtimePublishesEveryPublishEveryTicksAtTheScenesRate) {
+  Harness h(make_scene(kScene), Mode::kRealtime);
+  const std::int64_t t0 = monotonic_ns();
+  h.start();
+  ASSERT_TRUE(h.wait([&] { return h.out.last.tick >= 300; }, 3000ms));
+  const double wall = static_cast<double>(monotonic_ns() - t0) * 1e-9;
+  h.stop();
+  // Published ticks: 0, 10, 20, ...
+  for (std::size_t i = 0; i < h.out.ticks.size(); ++i)
+    EXPECT_EQ(h.out.ticks[i], static_cast<std::int64_t>(10 * i));
+  EXPECT_NEAR(wall, 0.3, 0.05);
+  const RunTotals t = h.loop().totals();
+  EXPECT_GE(t.lateness.count(), 300);
+}
+
+TEST(Loop, SetRtfChangesThePace) {
+  Harness h(make_scene(kScene), Mode::kRealtime);
+  h.start();
+  h.control(ControlKind::kSetRtf, 1, 0, 4.0);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+  const std::int64_t tick0 = h.last_state().tick;
+  const std::int64_t t0 = monotonic_ns();
+  ASSERT_TRUE(h.wait([&] { return h.out.last.tick >= tick0 + 400; }));
+  const double wall = static_cast<double>(monotonic_ns() - t0) * 1e-9;
+  EXPECT_NEAR(wall, 0.1, 0.03);  // 400 ticks of 1 ms at 4x
+}
+
+TEST(Loop, FastModeOutrunsTheClockAndReportsEachSecond) {
+  Harness h(make_scene(kScene), Mode::kFast);
+  h.start();
+  LoopSummary s;
+  const auto deadline = std::chrono::steady_clock::now() + 3s;
+  bool got = false;
+  while (!got && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(50ms);
+    got = h.loop().take_summary(s);
+  }
+  ASSERT_TRUE(got);
+  EXPECT_EQ(s.mode, Mode::kFast);
+  EXPECT_GT(s.rtf_last_second, 5.0);
+  EXPECT_GT(s.ticks_stepped, 5000);
+  EXPECT_EQ(s.overruns, 0);
+}
+
+TEST(Loop, StopsPromptlyWhilePausedOrSleeping) {
+  // A 1 Hz scene sleeps a whole second between ticks: stopping must not wait for it.
+  Harness h(make_scene("world { rate_hz: 1 } body { name: \"a\" mass: 1 }"), Mode::kRealtime);
+  h.start();
+  std::this_thread::sleep_for(50ms);
+  const std::int64_t t0 = monotonic_ns();
+  h.stop();
+  EXPECT_LT(monotonic_ns() - t0, 250'000'000);
+}
+
+}  // namespace
+}  // namespace rigid::loop

@@ -1,0 +1,122 @@
+// Physics state -> StateFrame (flat per-body arrays in id order, quaternion w first, everything in
+// W), and the scene -> SceneDescription.
+#include "loop/state_conversion.hpp"
+
+#include <gtest/gtest.h>
+
+#include "loop/triple_buffer.hpp"
+
+namespace rigid::loop {
+namespace {
+
+scene::Scene test_scene() {
+  return scene::parse_scene(R"(
+world { rate_hz: 500 substeps: 2 publish_every: 5 gravity { z: -1 }
+        limits { max_force: 50 max_torque: 5 max_ttl: 2 } }
+body { name: "a" mass: 2 inertia { x: 1 y: 2 z: 3 } position { x: 1 y: 2 z: 3 }
+       orientation { w: 0.8 x: 0.6 } velocity { x: -1 } angular_velocity { y: 0.5 } }
+body { name: "p" mass: 0.5 position { z: -4 } velocity { x: 7 y: 8 z: 9 } }
+)",
+                            "test.pbtxt");
+}
+
+TEST(StateConversion, FrameHoldsEveryBodyInIdOrder) {
+  const scene::Scene s = test_scene();
+  physics::World world(s.world);
+  world.step(3);
+  transport::StateFrame frame;
+  shape_state_frame(world, frame);
+  ASSERT_TRUE(frame.lengths_agree());
+  EXPECT_EQ(frame.ids, (std::vector<std::int32_t>{0, 1}));
+  fill_state_frame(world, 42, 0.042, frame);
+  EXPECT_EQ(frame.tick, 42);
+  EXPECT_EQ(frame.sim_time, 0.042);
+  for (int i = 0; i < 2; ++i) {
+    const physics::BodyState b = world.state(i);
+    const auto k = static_cast<std::size_t>(i);
+    EXPECT_EQ(frame.position[3 * k + 0], b.p_WBo.x());
+    EXPECT_EQ(frame.position[3 * k + 2], b.p_WBo.z());
+    EXPECT_EQ(frame.orientation[4 * k + 0], b.q_WB.w());
+    EXPECT_EQ(frame.orientation[4 * k + 1], b.q_WB.x());
+    EXPECT_EQ(frame.orientation[4 * k + 3], b.q_WB.z());
+    EXPECT_EQ(frame.linear_velocity[3 * k + 0], b.v_WBo.x());
+    EXPECT_EQ(frame.angular_velocity[3 * k + 1], b.w_WB.y());
+  }
+  // Body 0 starts at orientation (0.8, 0.6, 0, 0) and spins about y in W.
+  EXPECT_NEAR(frame.orientation[0], 0.8, 1e-3);
+  EXPECT_NEAR(frame.angular_velocity[1], 0.5, 1e-6);  // torque-free: L is constant, w nearly
+  EXPECT_EQ(frame.linear_velocity[3], 7.0);
+}
+
+TEST(StateConversion, RefillingAFrameDoesNotReallocate) {
+  const scene::Scene s = test_scene();
+  physics::World world(s.world);
+  transport::StateFrame frame;
+  shape_state_frame(world, frame);
+  const double* data = frame.position.data();
+  for (int k = 0; k < 10; ++k) {
+    world.step();
+    fill_state_frame(world, k, k * 1e-3, frame);
+  }
+  EXPECT_EQ(frame.position.data(), data);
+}
+
+TEST(StateConversion, SceneDescription) {
+  const scene::Scene s = test_scene();
+  physics::World world(s.world);
+  const transport::SceneDescription d = describe_scene(s, world);
+  ASSERT_TRUE(d.lengths_agree());
+  EXPECT_EQ(d.scene_name, "test.pbtxt");
+  EXPECT_DOUBLE_EQ(d.dt, 1.0 / 500);
+  EXPECT_EQ(d.substeps, 2);
+  EXPECT_EQ(d.publish_every, 5);
+  EXPECT_EQ(d.gravity, (transport::Vec3{0, 0, -1}));
+  EXPECT_EQ(d.integrator, std::string(world.integrator().name));
+  EXPECT_EQ(d.max_force, 50);
+  EXPECT_EQ(d.max_torque, 5);
+  EXPECT_EQ(d.names, (std::vector<std::string>{"a", "p"}));
+  EXPECT_EQ(d.masses, (std::vector<double>{2, 0.5}));
+  EXPECT_EQ(d.inertia, (std::vector<double>{1, 2, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0}));
+}
+
+// Shapes given in the file reach SceneInfo with their wire dims; an inertia given directly is
+// SHAPE_NONE.
+TEST(StateConversion, SceneDescriptionCarriesTheShapes) {
+  const scene::Scene s = scene::parse_scene(R"(
+body { name: "ball" density: 10 shape { sphere { radius: 0.5 } } }
+body { name: "brick" mass: 1 shape { box { x: 1 y: 2 z: 3 } } }
+body { name: "can" mass: 1 shape { cylinder { radius: 0.2 length: 0.7 } } }
+body { name: "pill" mass: 1 shape { capsule { radius: 0.1 length: 0.4 } } }
+body { name: "egg" mass: 1 shape { ellipsoid { x: 0.1 y: 0.2 z: 0.3 } } }
+body { name: "plain" mass: 1 inertia { x: 1 y: 1 z: 1 } }
+)",
+                                            "shapes.pbtxt");
+  physics::World world(s.world);
+  const transport::SceneDescription d = describe_scene(s, world);
+  ASSERT_TRUE(d.lengths_agree());
+  using K = transport::ShapeKind;
+  EXPECT_EQ(d.shape_kinds, (std::vector<K>{K::kSphere, K::kBox, K::kCylinder, K::kCapsule,
+                                           K::kEllipsoid, K::kNone}));
+  EXPECT_EQ(d.shape_dims, (std::vector<double>{0.5, 0, 0, 1, 2, 3, 0.2, 0.7, 0, 0.1, 0.4, 0, 0.1,
+                                               0.2, 0.3, 0, 0, 0}));
+}
+
+TEST(TripleBuffer, TheReaderGetsTheNewestAndOverwritesAreReported) {
+  TripleBuffer<int> b(0);
+  EXPECT_EQ(b.take(), nullptr);
+  b.back() = 1;
+  EXPECT_FALSE(b.publish());
+  b.back() = 2;
+  EXPECT_TRUE(b.publish());  // 1 was never taken
+  int* v = b.take();
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(*v, 2);
+  EXPECT_EQ(b.take(), nullptr);
+  b.back() = 3;
+  EXPECT_FALSE(b.publish());
+  EXPECT_EQ(*v, 2);  // the reader's value is untouched until its next take
+  EXPECT_EQ(*b.take(), 3);
+}
+
+}  // namespace
+}  // namespace rigid::loop

@@ -1,0 +1,96 @@
+// The wrench table: replace by (source, body, key), expiry by time to live, capacity, order.
+#include "loop/wrench_table.hpp"
+
+#include <gtest/gtest.h>
+
+namespace rigid::loop {
+namespace {
+
+Wrench wrench(std::int64_t source, std::int32_t body, std::int32_t key, double fx) {
+  Wrench w;
+  w.source = source;
+  w.body = body;
+  w.key = key;
+  w.force = {fx, 0, 0};
+  return w;
+}
+
+TEST(TicksToLive, RoundsUpButForgivesRoundOff) {
+  EXPECT_EQ(ticks_to_live(0.0, 1e-3), 1);    // 0: this tick only
+  EXPECT_EQ(ticks_to_live(0.2, 1e-3), 200);  // 0.2 / 0.001 = 200.00000000000003
+  EXPECT_EQ(ticks_to_live(0.0015, 1e-3), 2);
+  EXPECT_EQ(ticks_to_live(1e-9, 1e-3), 1);
+  EXPECT_EQ(ticks_to_live(60.0, 1.0 / 240), 14400);
+}
+
+TEST(WrenchTable, SameKeyReplacesInPlace) {
+  WrenchTable t(8);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 2.0), 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 3.0), 20), WrenchTable::Upsert::kReplaced);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t.active()[0].wrench.force[0], 3.0);  // kept its place
+  EXPECT_EQ(t.active()[0].expires_at_tick, 20);
+  EXPECT_EQ(t.active()[1].wrench.force[0], 2.0);
+}
+
+TEST(WrenchTable, DifferentSourceBodyOrKeyAreDifferentEntries) {
+  WrenchTable t(8);
+  t.upsert(wrench(1, 0, 0, 1.0), 10);
+  t.upsert(wrench(1, 1, 0, 1.0), 10);
+  t.upsert(wrench(1, 0, 1, 1.0), 10);
+  t.upsert(wrench(2, 0, 0, 1.0), 10);
+  EXPECT_EQ(t.size(), 4u);
+}
+
+TEST(WrenchTable, EntriesExpireWhenTheTickReachesTheirEnd) {
+  WrenchTable t(8);
+  t.upsert(wrench(1, 0, 0, 1.0), 3);
+  t.upsert(wrench(2, 0, 0, 2.0), 5);
+  t.upsert(wrench(3, 0, 0, 3.0), 4);
+  EXPECT_EQ(t.expire(2), 0u);
+  EXPECT_EQ(t.expire(3), 1u);
+  ASSERT_EQ(t.size(), 2u);
+  // Survivors keep their order, and stay findable after moving.
+  EXPECT_EQ(t.active()[0].wrench.source, 2);
+  EXPECT_EQ(t.active()[1].wrench.source, 3);
+  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 30.0), 9), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.active()[1].wrench.force[0], 30.0);
+  EXPECT_EQ(t.expire(100), 2u);
+  EXPECT_EQ(t.size(), 0u);
+}
+
+TEST(WrenchTable, FullTableRefusesNewKeysButAcceptsReplacements) {
+  WrenchTable t(3);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(t.upsert(wrench(1, 0, k, 1.0), 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 10), WrenchTable::Upsert::kFull);
+  EXPECT_EQ(t.size(), 3u);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 1, 5.0), 10), WrenchTable::Upsert::kReplaced);
+  t.expire(10);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 20), WrenchTable::Upsert::kInserted);
+}
+
+TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
+  // Many inserts, replacements and expiries: every live key is found exactly once.
+  WrenchTable t(64);
+  std::int64_t tick = 0;
+  for (int round = 0; round < 2000; ++round) {
+    const int key = (round * 7919) % 97;
+    t.upsert(wrench(key % 5, key % 3, key, round), tick + 1 + round % 13);
+    if (round % 3 == 0) t.expire(++tick);
+    for (const ActiveWrench& e : t.active()) {
+      int same = 0;
+      for (const ActiveWrench& f : t.active())
+        same += f.wrench.source == e.wrench.source && f.wrench.body == e.wrench.body &&
+                f.wrench.key == e.wrench.key;
+      ASSERT_EQ(same, 1);
+    }
+  }
+  t.clear();
+  EXPECT_EQ(t.size(), 0u);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 1), WrenchTable::Upsert::kInserted);
+}
+
+}  // namespace
+}  // namespace rigid::loop

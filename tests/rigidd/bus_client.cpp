@@ -1,0 +1,166 @@
+#include "bus_client.hpp"
+
+#include <time.h>
+#include <unistd.h>
+
+#include <atomic>
+
+#include "transport/dds/dds_transport.hpp"
+#include "transport/lcm/lcm_transport.hpp"
+
+namespace rigid::rigidd::testing {
+namespace {
+
+std::int64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::atomic<int> g_clients{0};
+
+}  // namespace
+
+std::string unique_prefix(const std::string& tag) {
+  static std::atomic<int> counter{0};
+  return tag + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+}
+
+BusClient::BusClient(transport::Bus bus, const std::string& prefix)
+    : bus_(bus), source_(static_cast<std::int64_t>(::getpid()) * 1000 + g_clients++) {
+  if (bus == transport::Bus::kDds) {
+    transport::dds::Options o;
+    o.role = transport::Role::kClient;
+    o.prefix = prefix;
+    transport_ = transport::dds::make_transport(o, *this);
+  } else {
+    transport::lcm::Options o;
+    o.role = transport::Role::kClient;
+    o.prefix = prefix;
+    o.url = std::string(transport::lcm::kDefaultUrl) + "&recv_buf_size=4194304";
+    transport_ = transport::lcm::make_transport(o, *this);
+  }
+}
+
+BusClient::~BusClient() {
+  transport_.reset();
+}
+
+std::int64_t BusClient::send(transport::WrenchCommand wrench) {
+  wrench.source = source_;
+  wrench.seq = next_seq();
+  (void)transport_->publish(wrench);
+  return wrench.seq;
+}
+
+std::int64_t BusClient::send(transport::ControlCommand control) {
+  control.source = source_;
+  control.seq = next_seq();
+  (void)transport_->publish(control);
+  return control.seq;
+}
+
+std::optional<transport::ControlReply> BusClient::handshake(transport::ControlCommand control,
+                                                            std::chrono::milliseconds patience) {
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  const std::int64_t first = seq_ + 1;
+  std::optional<transport::ControlReply> answer;
+  while (std::chrono::steady_clock::now() < deadline) {
+    send(control);
+    const bool got = wait(
+        [&] {
+          for (const auto& r : replies_)
+            if (r.source == source_ && r.seq >= first) {
+              answer = r;
+              return true;
+            }
+          return false;
+        },
+        std::chrono::milliseconds(50));
+    if (got) return answer;
+  }
+  return std::nullopt;
+}
+
+std::optional<transport::ControlReply> BusClient::request(transport::ControlCommand control,
+                                                          std::chrono::milliseconds patience) {
+  const std::int64_t seq = send(control);
+  std::optional<transport::ControlReply> answer;
+  wait(
+      [&] {
+        for (const auto& r : replies_)
+          if (r.source == source_ && r.seq == seq) {
+            answer = r;
+            return true;
+          }
+        return false;
+      },
+      patience);
+  return answer;
+}
+
+bool BusClient::wait(const std::function<bool()>& pred, std::chrono::milliseconds patience) {
+  std::unique_lock lock(mutex_);
+  return changed_.wait_for(lock, patience, pred);
+}
+
+std::vector<TimedState> BusClient::states() const {
+  const std::lock_guard lock(mutex_);
+  return states_;
+}
+
+std::size_t BusClient::state_count() const {
+  const std::lock_guard lock(mutex_);
+  return states_.size();
+}
+
+std::optional<TimedState> BusClient::last_state() const {
+  const std::lock_guard lock(mutex_);
+  if (states_.empty()) return std::nullopt;
+  return states_.back();
+}
+
+std::optional<transport::StatsReport> BusClient::last_stats() const {
+  const std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+std::optional<transport::SceneDescription> BusClient::scene() const {
+  const std::lock_guard lock(mutex_);
+  return scene_;
+}
+
+void BusClient::on_state(const transport::StateFrame& state) {
+  const std::int64_t t = now_ns();
+  {
+    const std::lock_guard lock(mutex_);
+    states_.push_back({state, t});
+  }
+  changed_.notify_all();
+}
+
+void BusClient::on_stats(const transport::StatsReport& stats) {
+  {
+    const std::lock_guard lock(mutex_);
+    stats_ = stats;
+  }
+  changed_.notify_all();
+}
+
+void BusClient::on_scene(const transport::SceneDescription& scene) {
+  {
+    const std::lock_guard lock(mutex_);
+    scene_ = scene;
+  }
+  changed_.notify_all();
+}
+
+void BusClient::on_control_reply(const transport::ControlReply& reply) {
+  {
+    const std::lock_guard lock(mutex_);
+    replies_.push_back(reply);
+  }
+  changed_.notify_all();
+}
+
+}  // namespace rigid::rigidd::testing
