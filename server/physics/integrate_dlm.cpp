@@ -31,7 +31,7 @@ inline void axis_rotation(int i, double t, const Vec3& inv_I, Vec3& m, Quat& q) 
 }
 
 template <class G>
-void dlm_group(G& g, const Model& m) {
+void dlm_group(G& g, Model& m) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   const double h = m.dt;
   for (int i = 0; i < g.size(); ++i) {
@@ -40,7 +40,10 @@ void dlm_group(G& g, const Model& m) {
     const Loads& L = g.loads[i];
     const TransCoef& half = m.tc(lin, kHalf);
     Vec3 rate = Vec3::Zero();
-    if constexpr (kRotates) rate = g.rot[i].drag_rates();
+    if constexpr (kRotates) {
+      rate = g.rot[i].drag_rates();
+      m.note_rotation(g.rot[i].omega(s.spin));
+    }
     const auto kick_all = [&] {
       kick(half, lin.accel(L.force_W(s.q)), s.v);
       if constexpr (kRotates) {

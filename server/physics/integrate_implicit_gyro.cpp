@@ -16,7 +16,7 @@ namespace rigid::physics::detail {
 namespace {
 
 template <class G>
-void implicit_gyro_group(G& g, const Model& m) {
+void implicit_gyro_group(G& g, Model& m) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   const double h = m.dt;
   for (int i = 0; i < g.size(); ++i) {
@@ -29,6 +29,7 @@ void implicit_gyro_group(G& g, const Model& m) {
     if constexpr (kRotates) {
       const auto& rot = g.rot[i];
       using Rot = std::decay_t<decltype(rot)>;
+      m.note_rotation(rot.omega(s.spin));
       kick_angular(rot.spin_rate(L.torque_P(s.q)), rot.drag_rates(), h, s.spin);
       Vec3 w = rot.omega(s.spin);
       if constexpr (std::is_same_v<Rot, DiagRot>) {

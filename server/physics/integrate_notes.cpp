@@ -23,7 +23,8 @@ Quat notes_rotate(const Quat& q, const Vec3& w_W, double s) {
 }
 
 template <class G>
-void notes_group(G& g, IntegratorId which, double h) {
+void notes_group(G& g, IntegratorId which, Model& m) {
+  const double h = m.dt;
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   for (int i = 0; i < g.size(); ++i) {
     Motion& s = g.motion[i];
@@ -49,7 +50,10 @@ void notes_group(G& g, IntegratorId which, double h) {
     };
     const Quat q0 = s.q;
     Vec3 w0 = Vec3::Zero();  // world frame, the notes' state
-    if constexpr (kRotates) w0 = q0 * g.rot[i].omega(s.spin);
+    if constexpr (kRotates) {
+      w0 = q0 * g.rot[i].omega(s.spin);
+      m.note_rotation(w0);
+    }
     Quat q1 = q0;
     Vec3 w1 = w0;
     switch (which) {
@@ -123,10 +127,10 @@ void notes_group(G& g, IntegratorId which, double h) {
 }  // namespace
 
 void step_notes(Model& m, IntegratorId which) {
-  notes_group(m.point, which, m.dt);
-  notes_group(m.iso, which, m.dt);
-  notes_group(m.axi, which, m.dt);
-  notes_group(m.gen, which, m.dt);
+  notes_group(m.point, which, m);
+  notes_group(m.iso, which, m);
+  notes_group(m.axi, which, m);
+  notes_group(m.gen, which, m);
 }
 
 }  // namespace rigid::physics::detail

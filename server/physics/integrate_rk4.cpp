@@ -21,7 +21,8 @@ template <class Rot>
 constexpr bool kGyroscopic = std::is_same_v<Rot, DiagRot>;
 
 template <class G>
-void rk4_group(G& g, double h) {
+void rk4_group(G& g, Model& m) {
+  const double h = m.dt;
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   for (int i = 0; i < g.size(); ++i) {
     Motion& s = g.motion[i];
@@ -58,6 +59,7 @@ void rk4_group(G& g, double h) {
       y.q.coeffs() = s.q.coeffs() + c * d.dq;
       return y;
     };
+    if constexpr (kRotates) m.note_rotation(g.rot[i].omega(s.spin));
     const Deriv k1 = f(s);
     const Deriv k2 = f(add(k1, 0.5 * h));
     const Deriv k3 = f(add(k2, 0.5 * h));
@@ -76,10 +78,10 @@ void rk4_group(G& g, double h) {
 }  // namespace
 
 void step_rk4(Model& m) {
-  rk4_group(m.point, m.dt);
-  rk4_group(m.iso, m.dt);
-  rk4_group(m.axi, m.dt);
-  rk4_group(m.gen, m.dt);
+  rk4_group(m.point, m);
+  rk4_group(m.iso, m);
+  rk4_group(m.axi, m);
+  rk4_group(m.gen, m);
 }
 
 }  // namespace rigid::physics::detail

@@ -126,6 +126,10 @@ struct Composition {
 
 struct Model {
   double dt = 1e-3;
+  // Body-steps in which a body turned by more than pi under an integrator that is not exact for
+  // large rotations (all but the exact-rotor splittings): counted so that callers can report
+  // them; the step itself is taken as the scheme defines it, never clamped.
+  std::int64_t large_rotations = 0;
   PointGroup point;
   IsoGroup iso;
   AxiGroup axi;
@@ -133,6 +137,11 @@ struct Model {
   TransTable trans;
 
   const TransCoef& tc(const Linear& l, TransSize s) const { return trans.coef[l.drag][s]; }
+  // Counts a step of angle |w| dt > pi.
+  void note_rotation(const Vec3& w) {
+    constexpr double kPi2 = 9.8696044010893586188;  // pi^2
+    if (dt * dt * w.squaredNorm() > kPi2) ++large_rotations;
+  }
 };
 
 // Fills the translation table for the model's dt.

@@ -512,6 +512,9 @@ void World::step(std::int64_t n) {
 double World::dt() const {
   return impl_->model.dt;
 }
+std::int64_t World::large_rotation_steps() const {
+  return impl_->model.large_rotations;
+}
 double World::time() const {
   return static_cast<double>(impl_->steps) * impl_->model.dt;
 }
@@ -571,6 +574,7 @@ void World::set_state(int id, const BodyState& s) {
 void World::reset() {
   Impl& w = *impl_;
   w.steps = 0;
+  w.model.large_rotations = 0;
   for (int i = 0; i < body_count(); ++i) {
     const BodySpec& b = w.spec.bodies[i];
     w.set_state(i, BodyState{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB});

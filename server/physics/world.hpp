@@ -97,6 +97,12 @@ class World {
   // An instantaneous momentum change J (N s) at a point, applied at the start of the next step.
   void apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame);
 
+  // Body-steps so far in which a body turned by more than pi in one step under an integrator that
+  // is not exact for large rotations (every integrator but exact_rotor and exact_rotor4): such a
+  // step is a poor approximation, taken as the scheme defines it and never clamped. Reset by
+  // reset().
+  std::int64_t large_rotation_steps() const;
+
   // Diagnostics, all about the centre of mass and expressed in W.
   double kinetic_energy(int id) const;
   // Kinetic energy of every body plus the gravitational potential -m g . p of gravity-affected
