@@ -91,6 +91,12 @@ struct World::Impl {
   std::vector<Vec3> pending_L;    // their angular momentum about the centre of mass (W)
   std::vector<int> pending;       // ids with a pending impulse (capacity reserved: no allocation)
   std::unordered_map<std::string, int> by_name;
+  // The guard (see World::frozen_bodies): each body's last state that passed the check, its
+  // translational parameters before any freeze (for reset), and who is frozen.
+  std::vector<Motion> last_good;
+  std::vector<Linear> linear0;
+  std::vector<std::uint8_t> frozen;
+  std::vector<int> frozen_ids;  // capacity reserved: no allocation
 
   void compile();
   Group& group(BodyModel m) {
@@ -114,6 +120,9 @@ struct World::Impl {
   void invalidate_cache(int id);
   void set_state(int id, const BodyState& s);
   void apply_pending_impulses();
+  void guard();
+  void freeze(int id);
+  void thaw_all();
   Vec3 angular_momentum_P(int id) const;
   Vec3 omega_P(int id) const;
   void check_id(int id) const;
@@ -339,6 +348,66 @@ void World::Impl::compile() {
   }
   for (int i = 0; i < n; ++i)
     loads(i) = base_loads[i];
+  last_good.resize(n);
+  linear0.resize(n);
+  for (int i = 0; i < n; ++i) {
+    last_good[i] = motion(i);
+    linear0[i] = linear(i);
+  }
+  frozen.assign(n, 0);
+  frozen_ids.clear();
+  frozen_ids.reserve(n);
+}
+
+namespace {
+
+// Finite and physically sane: every component within 1e100 (NaN fails every comparison).
+constexpr double kSaneLimit = 1e100;
+bool sane(const Motion& m) {
+  const auto ok = [](const auto& v) { return (v.array().abs() <= kSaneLimit).all(); };
+  return ok(m.x) && ok(m.v) && ok(m.spin) && ok(m.q.coeffs());
+}
+
+}  // namespace
+
+void World::Impl::guard() {
+  for (int id = 0; id < static_cast<int>(slot.size()); ++id) {
+    if (frozen[id]) continue;
+    const Motion& m = motion(id);
+    if (sane(m)) {
+      last_good[id] = m;
+    } else {
+      freeze(id);
+    }
+  }
+}
+
+void World::Impl::freeze(int id) {
+  Motion& m = motion(id);
+  m = last_good[id];
+  m.v.setZero();
+  m.spin.setZero();
+  const Slot& s = slot[id];
+  Linear& lin = group(s.model).linear[s.index];
+  lin.g.setZero();
+  lin.inv_m.setZero();
+  lin.gamma = 0.0;
+  lin.drag = 0;
+  loads(id) = Loads{};
+  pending_J[id].setZero();
+  pending_L[id].setZero();
+  invalidate_cache(id);
+  frozen[id] = 1;
+  frozen_ids.push_back(id);  // within the reserved capacity
+}
+
+void World::Impl::thaw_all() {
+  for (int id : frozen_ids) {
+    const Slot& s = slot[id];
+    group(s.model).linear[s.index] = linear0[id];
+    frozen[id] = 0;
+  }
+  frozen_ids.clear();
 }
 
 void World::Impl::check_id(int id) const {
@@ -502,6 +571,7 @@ void World::step() {
       break;
   }
   ++w.steps;
+  if (w.steps % kGuardEvery == 0) w.guard();
 }
 
 void World::step(std::int64_t n) {
@@ -568,6 +638,11 @@ BodyState World::state(int id) const {
 
 void World::set_state(int id, const BodyState& s) {
   impl_->check_id(id);
+  if (!s.p_WBo.allFinite() || !s.v_WBo.allFinite() || !s.w_WB.allFinite() ||
+      !s.q_WB.coeffs().allFinite() || s.q_WB.norm() < 1e-6) {
+    throw std::invalid_argument("set_state: body '" + impl_->spec.bodies[id].name +
+                                "': the state must be finite, with a non-zero quaternion");
+  }
   impl_->set_state(id, s);
 }
 
@@ -575,6 +650,7 @@ void World::reset() {
   Impl& w = *impl_;
   w.steps = 0;
   w.model.large_rotations = 0;
+  w.thaw_all();
   for (int i = 0; i < body_count(); ++i) {
     const BodySpec& b = w.spec.bodies[i];
     w.set_state(i, BodyState{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB});
@@ -583,6 +659,8 @@ void World::reset() {
   }
   w.pending.clear();
   clear_applied();
+  for (int i = 0; i < body_count(); ++i)
+    w.last_good[i] = w.motion(i);
 }
 
 void World::clear_applied() {
@@ -593,13 +671,21 @@ void World::clear_applied() {
 
 void World::clear_applied(int id) {
   impl_->check_id(id);
-  impl_->loads(id) = impl_->base_loads[id];
+  impl_->loads(id) = impl_->frozen[id] ? Loads{} : impl_->base_loads[id];
+}
+
+std::span<const int> World::frozen_bodies() const {
+  return impl_->frozen_ids;
+}
+bool World::is_frozen(int id) const {
+  impl_->check_id(id);
+  return impl_->frozen[id] != 0;
 }
 
 void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic) return;
+  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const Quat q_PB = w.q_BP[id].conjugate();
   const bool body = frame == Frame::kBody;
   w.loads(id).add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
@@ -608,7 +694,7 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
 void World::add_torque(int id, const Vec3& tau, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic) return;
+  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
   w.loads(id).add_torque(body ? Vec3(w.q_BP[id].conjugate() * tau) : tau, body);
 }
@@ -616,7 +702,7 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
 void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic) return;
+  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const BodyState s = state(id);
   const Vec3 J_W = frame == Frame::kBody ? Vec3(s.q_WB * J) : J;
   const Vec3 r_W = s.q_WB * p_BoQ_B;

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -82,7 +83,8 @@ class World {
   Quat q_BP(int id) const;
 
   BodyState state(int id) const;
-  // Overwrites a body's state (kinematic constraints such as frozen axes are re-applied).
+  // Overwrites a body's state (kinematic constraints such as frozen axes are re-applied; a frozen
+  // body is moved but stays frozen). Throws std::invalid_argument for a non-finite state.
   void set_state(int id, const BodyState& s);
   // Back to the spec's initial state, time 0, no applied loads or pending impulses.
   void reset();
@@ -96,6 +98,15 @@ class World {
   void add_torque(int id, const Vec3& tau, Frame frame);
   // An instantaneous momentum change J (N s) at a point, applied at the start of the next step.
   void apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame);
+
+  // The guard: every kGuardEvery steps each body's state is checked. One that went non-finite or
+  // absurd (a component beyond 1e100: a diverging scheme, e.g. explicit drag past c dt / m = 2) is
+  // put back to its last good state (at most kGuardEvery - 1 steps old) and frozen there at rest:
+  // it ignores gravity, loads and impulses from then on, and the rest of the world goes on. The
+  // bodies frozen so far, in order; reset() thaws them.
+  static constexpr int kGuardEvery = 64;
+  std::span<const int> frozen_bodies() const;
+  bool is_frozen(int id) const;
 
   // Body-steps so far in which a body turned by more than pi in one step under an integrator that
   // is not exact for large rotations (every integrator but exact_rotor and exact_rotor4): such a

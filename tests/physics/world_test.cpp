@@ -8,35 +8,8 @@
 #include <cstdlib>
 #include <new>
 
+#include "allocation_counter.hpp"
 #include "test_util.hpp"
-
-// Counts allocations in this test binary, so a test can assert that stepping makes none.
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t al = static_cast<std::size_t>(a);
-  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
 
 namespace rigid::test {
 namespace {
@@ -275,6 +248,53 @@ TEST(WorldModel, ResetRestoresTheInitialState) {
   EXPECT_LT(angle_between(w.state(0).q_WB, fresh.state(0).q_WB), 1e-14);
 }
 
+// A body whose scheme diverges (RK4 with linear drag at c dt / m = 5: x13.7 per step) is caught by
+// the guard, put back to its last good state and frozen at rest; the rest of the world goes on as
+// if it were alone, and reset() thaws it.
+TEST(WorldGuard, FreezesADivergingBodyAndTheRestGoesOn) {
+  BodySpec bad = body("bad", {1, 1, 1});
+  bad.linear_drag = 5.0 / 1e-2;  // c dt / m = 5
+  bad.v_WBo = {1, 0, 0};
+  BodySpec good = body("good", {1, 2, 3}, {0.3, 1, 2});
+  WorldSpec ws;
+  ws.dt = 1e-2;
+  ws.g_W.setZero();
+  ws.integrator = "rk4";
+  ws.bodies = {bad, good};
+  World w(ws), alone(one_body(good, 1e-2, "rk4"));
+  w.step(1000);
+  alone.step(1000);
+  ASSERT_EQ(w.frozen_bodies().size(), 1u);
+  EXPECT_EQ(w.frozen_bodies()[0], 0);
+  EXPECT_TRUE(w.is_frozen(0));
+  EXPECT_FALSE(w.is_frozen(1));
+  const BodyState s = w.state(0);
+  EXPECT_TRUE(s.p_WBo.allFinite());
+  EXPECT_EQ(s.v_WBo, Vec3::Zero());
+  EXPECT_LE(s.p_WBo.norm(), 1e100);
+  // frozen: loads and impulses no longer move it
+  w.add_force(0, {1, 1, 1}, Vec3::Zero(), Frame::kWorld);
+  w.apply_impulse(0, {1, 1, 1}, Vec3::Zero(), Frame::kWorld);
+  w.step(10);
+  EXPECT_EQ(w.state(0).p_WBo, s.p_WBo);
+  EXPECT_EQ(w.state(1).q_WB.coeffs(), [&] {
+    alone.step(10);
+    return alone.state(0).q_WB.coeffs();
+  }());
+  w.reset();
+  EXPECT_TRUE(w.frozen_bodies().empty());
+  EXPECT_FALSE(w.is_frozen(0));
+  w.step(1);
+  EXPECT_NE(w.state(0).p_WBo.x(), 0.0);  // moving again (RK4 here: R(-5) = -2.5 per step)
+}
+
+TEST(WorldGuard, RejectsANonFiniteState) {
+  World w(one_body(body("a", {1, 2, 3}), 1e-3, ""));
+  BodyState s = w.state(0);
+  s.v_WBo.x() = std::nan("");
+  EXPECT_THROW(w.set_state(0, s), std::invalid_argument);
+}
+
 WorldSpec busy_world(const std::string& integrator) {
   WorldSpec ws;
   ws.dt = 1e-3;
@@ -319,12 +339,12 @@ TEST(WorldStep, AllocatesNothing) {
   for (const auto& info : physics::all_integrators()) {
     World w(busy_world(std::string(info.name)));
     w.step(2);
-    const long before = g_allocations.load();
+    const long before = allocation_count();
     w.clear_applied();
     w.add_force(1, {1, 2, 3}, {0, 0, 1}, Frame::kBody);
     w.apply_impulse(2, {0, 0, 1}, {1, 0, 0}, Frame::kWorld);
     w.step(100);
-    EXPECT_EQ(g_allocations.load(), before) << info.name;
+    EXPECT_EQ(allocation_count(), before) << info.name;
   }
 }
 
