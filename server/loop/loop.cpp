@@ -6,6 +6,7 @@
 
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
+#include "loop/state_hash.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -24,35 +25,24 @@ inline void cpu_relax() {
 #endif
 }
 
-physics::Vec3 eigen(const Vec3& v) {
-  return {v[0], v[1], v[2]};
-}
-
-physics::Frame frame_of(transport::Frame f) {
-  return f == transport::Frame::kBody ? physics::Frame::kBody : physics::Frame::kWorld;
-}
-
 }  // namespace
 
 Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
            BoundedQueue<Command>& commands, Doorbell& doorbell, RejectCounters& rejects,
            LoopOutput& output)
-    : world_(spec),
-      config_(config),
+    : config_(config),
+      driven_(spec, config.tick_dt, config.substeps, config.wrench_capacity),
       commands_(commands),
       doorbell_(doorbell),
       rejects_(rejects),
       output_(output),
-      wrenches_(config.wrench_capacity),
       wrench_sources_(config.source_capacity),
       control_sources_(config.source_capacity),
       schedule_(0, config.tick_dt * 1e9),
       stats_(config.tick_dt, 0),
       summaries_(LoopSummary{}) {
-  shape_state_frame(world_, frame_);
+  shape_state_frame(driven_.world(), frame_);
   paused_ = config_.mode == Mode::kLockstep;
-  loaded_.reserve(static_cast<std::size_t>(world_.body_count()));
-  is_loaded_.assign(static_cast<std::size_t>(world_.body_count()), 0);
 }
 
 void Loop::request_stop() {
@@ -154,9 +144,9 @@ void Loop::idle_wait() {
 }
 
 void Loop::roll_stats(std::int64_t now_ns) {
-  summaries_.back() =
-      stats_.close_window(now_ns, tick_, static_cast<double>(tick_) * config_.tick_dt, config_.mode,
-                          paused_ && step_left_ == 0);
+  const std::int64_t tick = driven_.tick();
+  summaries_.back() = stats_.close_window(now_ns, tick, static_cast<double>(tick) * config_.tick_dt,
+                                          config_.mode, paused_ && step_left_ == 0);
   summaries_.publish();
 }
 
@@ -185,23 +175,35 @@ void Loop::handle_wrench(const Wrench& w, std::int64_t arrival_ns) {
                      static_cast<long long>(last));
     return;
   }
-  const std::int64_t expires = tick_ + ticks_to_live(w.ttl, config_.tick_dt);
-  if (wrenches_.upsert(w, expires) == WrenchTable::Upsert::kFull) {
+  if (driven_.apply(w) == WrenchTable::Upsert::kFull) {
     rejects_.recordf(RejectReason::kQueueFull,
                      "wrench table full (%zu live wrenches): wrench from source %lld seq %lld "
                      "dropped",
-                     wrenches_.capacity(), static_cast<long long>(w.source),
+                     driven_.wrench_capacity(), static_cast<long long>(w.source),
                      static_cast<long long>(w.seq));
     return;
   }
+  JournalEntry entry;
+  entry.kind = JournalEntry::Kind::kWrench;
+  entry.tick = driven_.tick();
+  entry.wrench = w;
+  output_.journal(entry);
   accepted_.fetch_add(1, std::memory_order_relaxed);
   new_command_ = true;
   if (first_arrival_ns_ == 0) first_arrival_ns_ = arrival_ns;
 }
 
 void Loop::answer(const Command& c, Outcome outcome, ReplyNote note, std::int64_t detail) {
-  output_.reply(
-      Reply{c.bus, c.control.source, c.control.seq, c.control.kind, outcome, tick_, note, detail});
+  output_.reply(Reply{c.bus, c.control.source, c.control.seq, c.control.kind, outcome,
+                      driven_.tick(), note, detail});
+}
+
+void Loop::journal_control(const Control& k) {
+  JournalEntry entry;
+  entry.kind = JournalEntry::Kind::kControl;
+  entry.tick = driven_.tick();
+  entry.control = k;
+  output_.journal(entry);
 }
 
 void Loop::handle_control(const Command& c) {
@@ -225,6 +227,7 @@ void Loop::handle_control(const Command& c) {
         return;
       }
       paused_ = k.kind == ControlKind::kPause;
+      journal_control(k);
       answer(c, Outcome::kOk);
       return;
     case ControlKind::kStep:
@@ -237,9 +240,11 @@ void Loop::handle_control(const Command& c) {
         step_left_ = k.steps;
         step_total_ = k.steps;
         step_request_ = c;
+        journal_control(k);
       }
       return;
     case ControlKind::kReset:
+      journal_control(k);  // before do_reset's state at tick 0, in the journal as in the loop
       do_reset();
       answer(c, Outcome::kOk);
       return;
@@ -250,6 +255,7 @@ void Loop::handle_control(const Command& c) {
       }
       rtf_ = k.rtf;
       on_schedule_ = false;  // the next tick starts a schedule with the new period
+      journal_control(k);
       answer(c, Outcome::kOk);
       return;
     case ControlKind::kNone:
@@ -264,50 +270,25 @@ void Loop::do_reset() {
     const std::int64_t done = step_total_ - step_left_;
     step_left_ = 0;
     output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
-                        ControlKind::kStep, Outcome::kFailed, tick_, ReplyNote::kInterruptedByReset,
-                        done});
+                        ControlKind::kStep, Outcome::kFailed, driven_.tick(),
+                        ReplyNote::kInterruptedByReset, done});
   }
-  world_.reset();  // also clears the applied loads
-  wrenches_.clear();
-  for (const int id : loaded_)
-    is_loaded_[static_cast<std::size_t>(id)] = 0;
-  loaded_.clear();
+  driven_.reset();
   new_command_ = false;
   first_arrival_ns_ = 0;
-  tick_ = 0;
+  hashed_tick_ = -1;
   on_schedule_ = false;
   publish_state();
 }
 
 void Loop::step_tick() {
   const std::int64_t t0 = monotonic_ns();
-  // Rebuild the applied loads from the live wrenches: clear the bodies loaded last time (only
-  // those), then load the live wrenches in arrival order (deterministic), remembering their bodies.
-  if (wrenches_.size() > 0 || !loaded_.empty()) {
-    for (const int id : loaded_) {
-      world_.clear_applied(id);
-      is_loaded_[static_cast<std::size_t>(id)] = 0;
-    }
-    loaded_.clear();
-    for (const ActiveWrench& e : wrenches_.active()) {
-      const Wrench& w = e.wrench;
-      world_.add_force(w.body, eigen(w.force), eigen(w.point), frame_of(w.force_frame));
-      if (w.torque[0] != 0.0 || w.torque[1] != 0.0 || w.torque[2] != 0.0) {
-        world_.add_torque(w.body, eigen(w.torque), frame_of(w.torque_frame));
-      }
-      if (!is_loaded_[static_cast<std::size_t>(w.body)]) {
-        is_loaded_[static_cast<std::size_t>(w.body)] = 1;
-        loaded_.push_back(w.body);  // within the capacity reserved for every body: no allocation
-      }
-    }
-  }
-  world_.step(config_.substeps);
-  ++tick_;
+  driven_.step_tick();
   stats_.count_tick();
-  wrenches_.expire(tick_);
   stats_.record_step_cost(monotonic_ns() - t0);
 
-  bool publish = tick_ % config_.publish_every == 0 || new_command_;
+  const std::int64_t tick = driven_.tick();
+  bool publish = tick % config_.publish_every == 0 || new_command_;
   new_command_ = false;
   bool step_done = false;
   if (step_left_ > 0 && --step_left_ == 0) {
@@ -317,13 +298,22 @@ void Loop::step_tick() {
   if (publish) publish_state();
   if (step_done) {
     output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
-                        ControlKind::kStep, Outcome::kOk, tick_, ReplyNote::kNone, step_total_});
+                        ControlKind::kStep, Outcome::kOk, tick, ReplyNote::kNone, step_total_});
   }
 }
 
 void Loop::publish_state() {
-  fill_state_frame(world_, tick_, static_cast<double>(tick_) * config_.tick_dt, frame_);
+  const std::int64_t tick = driven_.tick();
+  fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame_);
   output_.offer_state(frame_, first_arrival_ns_);
+  if (config_.hash_states && tick != hashed_tick_) {
+    JournalEntry entry;
+    entry.kind = JournalEntry::Kind::kStateHash;
+    entry.tick = tick;
+    entry.hash = state_hash(frame_);
+    output_.journal(entry);
+    hashed_tick_ = tick;
+  }
   first_arrival_ns_ = 0;
   last_publish_ns_ = monotonic_ns();
 }

@@ -10,6 +10,8 @@
 //   lockstep  ticks run only on step requests (for controllers that act every tick).
 // A tick in which a new wrench took effect also publishes its state, so a controller sees the
 // effect of its command one tick after it arrived instead of up to publish_every ticks later.
+// Every command carried out goes to the output's journal with its tick (journal_entry.hpp), and
+// with hash_states a hash of every published state too, so that a replay can reproduce the run.
 // Paused (or in lockstep with no step requested) the loop waits on the command doorbell and
 // republishes the unchanged state once a second for late subscribers.
 //
@@ -23,13 +25,13 @@
 #include "loop/bounded_queue.hpp"
 #include "loop/command.hpp"
 #include "loop/doorbell.hpp"
+#include "loop/driven_world.hpp"
 #include "loop/fixed_rate_schedule.hpp"
 #include "loop/outbox.hpp"
 #include "loop/reject_counters.hpp"
 #include "loop/sequence_table.hpp"
 #include "loop/tick_stats.hpp"
 #include "loop/triple_buffer.hpp"
-#include "loop/wrench_table.hpp"
 #include "physics/world.hpp"
 #include "transport/messages.hpp"
 
@@ -46,6 +48,9 @@ struct LoopConfig {
   // wakes tens of microseconds late on these machines (timer and scheduler latency in a VM); the
   // spin takes that out of tick lateness for spin_ns / period of one core. 0: sleep only.
   std::int64_t spin_ns = 100'000;
+  // Journal a hash of every state published (rigidd --journal): one pass over the state per
+  // publish (state_hash.hpp: 18 us for 1000 bodies).
+  bool hash_states = false;
 };
 
 class Loop {
@@ -70,8 +75,8 @@ class Loop {
 
   // After run() has returned (or before it started).
   RunTotals totals() const;
-  const physics::World& world() const { return world_; }
-  std::int64_t tick() const { return tick_; }
+  const physics::World& world() const { return driven_.world(); }
+  std::int64_t tick() const { return driven_.tick(); }
 
  private:
   bool wants_tick() const;
@@ -85,20 +90,20 @@ class Loop {
   void do_reset();
   void step_tick();
   void publish_state();
+  void journal_control(const Control& k);
   // Sleeps to config_.spin_ns before the deadline in slices of at most 100 ms, then spins to it;
   // false if a stop was requested.
   bool sleep_to(std::int64_t deadline_ns);
   void idle_wait();
   void roll_stats(std::int64_t now_ns);
 
-  physics::World world_;
   const LoopConfig config_;
+  DrivenWorld driven_;  // the world, its acting wrenches and the tick counter
   BoundedQueue<Command>& commands_;
   Doorbell& doorbell_;
   RejectCounters& rejects_;
   LoopOutput& output_;
 
-  WrenchTable wrenches_;
   SequenceTable wrench_sources_;
   SequenceTable control_sources_;
   transport::StateFrame frame_;
@@ -106,21 +111,16 @@ class Loop {
   TickStats stats_;
   TripleBuffer<LoopSummary> summaries_;
 
-  std::int64_t tick_ = 0;
   double rtf_ = 1.0;
   bool paused_ = false;
-  bool on_schedule_ = false;  // realtime: the schedule's origin is valid
-  // Bodies that hold applied loads from the last rebuild (capacity: every wrench on its own body),
-  // and a per-body mark so that each is listed once: the rebuild clears just these, not every
-  // body of the world (30-60 us a tick with 10^4 bodies).
-  std::vector<int> loaded_;
-  std::vector<std::uint8_t> is_loaded_;
+  bool on_schedule_ = false;    // realtime: the schedule's origin is valid
   bool new_command_ = false;    // a wrench took effect since the last tick
   std::int64_t step_left_ = 0;  // ticks left of the running step request
   std::int64_t step_total_ = 0;
   Command step_request_{};
   std::int64_t last_publish_ns_ = 0;
   std::int64_t first_arrival_ns_ = 0;  // of the commands not yet shown in a published state
+  std::int64_t hashed_tick_ = -1;      // the last state hashed (an idle republish is not again)
 
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> heartbeat_{0};

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "loop/command.hpp"
+#include "loop/journal_entry.hpp"
 #include "transport/messages.hpp"
 
 namespace rigid::loop {
@@ -23,6 +24,9 @@ class LoopOutput : public ReplySink {
   // command_arrival_ns: when the earliest command that first shows in this state arrived
   // (CLOCK_MONOTONIC), or 0: the publishers measure command-to-state latency with it.
   virtual void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) = 0;
+  // A command carried out, or a published state's hash, in the loop's order (journal_entry.hpp).
+  // By default dropped: only the server keeps a journal.
+  virtual void journal(const JournalEntry& /*entry*/) {}
 };
 
 }  // namespace rigid::loop

@@ -9,6 +9,7 @@
 
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
+#include "records/log_records.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -20,6 +21,18 @@ std::vector<std::string> body_names(const scene::Scene& scene) {
   return names;
 }
 
+std::string_view mode_name(transport::Mode mode) {
+  switch (mode) {
+    case transport::Mode::kRealtime:
+      return "realtime";
+    case transport::Mode::kFast:
+      return "fast";
+    case transport::Mode::kLockstep:
+      return "lockstep";
+  }
+  return "?";
+}
+
 LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) {
   LoopConfig c;
   c.mode = options.mode;
@@ -28,7 +41,27 @@ LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) 
   c.publish_every = scene.publish_every;
   c.wrench_capacity = options.wrench_capacity;
   c.spin_ns = options.spin_ns;
+  c.hash_states = !options.journal_path.empty();
   return c;
+}
+
+// What a replay needs besides the journal's entries: the scene (its text and as SceneInfo), the
+// tick rate, the integrator and the wrench table's capacity.
+msgs::LogHeader journal_header(const scene::Scene& scene, const ServerOptions& options,
+                               const transport::SceneDescription& info) {
+  msgs::LogHeader h;
+  h.set_kind(msgs::LogHeader::JOURNAL);
+  h.set_schema_version(records::kLogSchemaVersion);
+  h.set_software_version(records::software_version());
+  h.set_writer("rigidd");
+  h.set_start_unix_ns(realtime_ns());
+  records::to_record(info, 0, *h.mutable_scene());
+  h.set_integrator(info.integrator);
+  h.set_rate_hz(scene.rate_hz);
+  h.set_scene_text(options.scene_text);
+  h.set_mode(std::string(mode_name(options.mode)));
+  h.set_wrench_capacity(options.wrench_capacity);
+  return h;
 }
 
 std::size_t bus_index(transport::Bus bus) {
@@ -58,6 +91,11 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
       loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
   scene_info_ = describe_scene(scene, loop_.world());
   shape_state_frame(loop_.world(), shape_);
+  Journal::Options journal;
+  journal.path = options.journal_path;
+  journal_ = std::make_unique<Journal>(
+      journal, journal_header(scene, options, scene_info_), log_,
+      [this](const transport::AcceptedCommand& a) { publish_accepted(a); });
 }
 
 Server::~Server() {
@@ -85,6 +123,7 @@ void Server::start() {
   }
   for (auto& p : publishers_)
     p->start();
+  journal_->start();
   housekeeping_thread_ = std::thread([this] { housekeeping(); });
   loop_thread_ = std::thread([this] { loop_.run(); });
   if (options_.mode == transport::Mode::kRealtime && options_.realtime_priority) {
@@ -119,6 +158,7 @@ void Server::stop() {
   loop_.request_stop();
   if (loop_thread_.joinable()) loop_thread_.join();
   totals_ = loop_.totals();
+  journal_->stop();
   {
     const std::lock_guard lock(mutex_);
     stopping_ = true;
@@ -144,6 +184,11 @@ void Server::offer_state(const transport::StateFrame& frame, std::int64_t comman
 void Server::reply(const Reply& reply) {
   Publisher* p = by_bus_[bus_index(reply.bus)].load(std::memory_order_acquire);
   if (p != nullptr) p->reply(reply);
+}
+
+void Server::publish_accepted(const transport::AcceptedCommand& accepted) {
+  for (auto& t : transports_)
+    (void)t->publish(accepted);  // failures are counted by the transport
 }
 
 transport::StatsReport Server::make_stats(const LoopSummary& s) const {

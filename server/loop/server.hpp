@@ -1,11 +1,13 @@
 // The daemon's parts wired together: the loop and its thread, one intake per bus (the transports'
-// receivers), one publisher per transport, and a housekeeping thread that publishes Stats when the
-// loop closes a one-second window, republishes SceneInfo on LCM every second (DDS keeps it for
-// late joiners: transient-local), and writes deferred log lines (first refusals, overruns).
+// receivers), one publisher per transport, the journal (its thread publishes each accepted command
+// on rigid/accepted and, with --journal, writes the journal file), and a housekeeping thread that
+// publishes Stats when the loop closes a one-second window, republishes SceneInfo on LCM every
+// second (DDS keeps it for late joiners: transient-local), and writes deferred log lines (first
+// refusals, overruns).
 //
 // Order of use: construct; create each transport with receiver(bus) and give it to
 // add_transport; start(); ... stop() (or the destructor). Threads: the loop, one per publisher,
-// housekeeping, and each transport's receive thread.
+// the journal, housekeeping, and each transport's receive thread.
 #pragma once
 
 #include <array>
@@ -24,6 +26,7 @@
 #include "loop/command_validation.hpp"
 #include "loop/doorbell.hpp"
 #include "loop/intake.hpp"
+#include "loop/journal.hpp"
 #include "loop/log.hpp"
 #include "loop/loop.hpp"
 #include "loop/outbox.hpp"
@@ -43,10 +46,15 @@ struct ServerOptions {
   bool realtime_priority = true;
   int fifo_priority = 10;
   std::int64_t spin_ns = 100'000;  // LoopConfig::spin_ns
+  // rigidd --journal: the journal file (created; an existing file is refused), and the scene
+  // file's text, kept in it so that a replay can check it runs the same scene. Empty: no file.
+  std::string journal_path;
+  std::string scene_text;
 };
 
 class Server final : private LoopOutput {
  public:
+  // Throws LogFileError when the journal file cannot be created.
   Server(const scene::Scene& scene, const ServerOptions& options, Log& log);
   ~Server() override;
   Server(const Server&) = delete;
@@ -60,12 +68,14 @@ class Server final : private LoopOutput {
 
   // Publishes SceneInfo and starts every thread.
   void start();
-  // Stops the loop, then housekeeping, then the publishers (each sends what it holds). Idempotent.
+  // Stops the loop, then the journal (it writes what it holds), housekeeping, and the publishers
+  // (each sends what it holds). Idempotent.
   void stop();
 
   bool first_state_sent() const;
   std::uint64_t heartbeat() const { return loop_.heartbeat(); }
   const Loop& loop() const { return loop_; }
+  const Journal& journal() const { return *journal_; }
   // One line summing up the run (after stop): ticks, lateness and step cost percentiles,
   // overruns, states sent and skipped per bus, commands accepted and refused.
   std::string closing_line() const;
@@ -73,6 +83,8 @@ class Server final : private LoopOutput {
  private:
   void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) override;
   void reply(const Reply& reply) override;
+  void journal(const JournalEntry& entry) override { journal_->push(entry); }
+  void publish_accepted(const transport::AcceptedCommand& accepted);
   void housekeeping();
   transport::StatsReport make_stats(const LoopSummary& summary) const;
   void set_priorities();
@@ -95,6 +107,8 @@ class Server final : private LoopOutput {
   // After the publishers and intakes: destroyed first, so their receive threads end before what
   // they call into goes away.
   std::vector<std::unique_ptr<transport::Transport>> transports_;
+  // Calls into the transports from its thread: declared after them, so destroyed before.
+  std::unique_ptr<Journal> journal_;
 
   std::mutex mutex_;  // guards stopping_ for the housekeeping wait
   std::condition_variable wake_;

@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +55,15 @@ std::string buses(const rigidd::RigiddOptions& o, const std::string& lcm_url) {
   return text;
 }
 
+// The scene file's text for the journal, read again after load_scene (which keeps only the result).
+std::string scene_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw std::runtime_error(path + ": cannot read the scene again for the journal");
+  return text.str();
+}
+
 int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   // Block SIGTERM and SIGINT before any thread exists (the buses start threads), so that only
   // the signalfd sees them.
@@ -68,6 +79,10 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   loop::ServerOptions server_options;
   server_options.mode = options.mode;
   server_options.spin_ns = options.spin_us * 1000;
+  if (!options.journal.empty()) {
+    server_options.journal_path = options.journal;
+    server_options.scene_text = scene_text(scene.path);
+  }
   loop::Server server(scene, server_options, log);
   const std::string lcm_url =
       options.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : options.lcm_url;
@@ -96,7 +111,8 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
 
   rigidd::SystemdNotifier systemd;
   server.start();
-  log.line("started: " + describe(scene, options) + "; " + buses(options, lcm_url));
+  log.line("started: " + describe(scene, options) + "; " + buses(options, lcm_url) +
+           (options.journal.empty() ? "" : "; journal " + options.journal));
 
   bool ready = false;
   std::uint64_t last_beat = server.heartbeat();

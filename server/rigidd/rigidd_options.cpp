@@ -76,7 +76,7 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       value = arg.substr(eq + 1);
     }
     if (name != "--scene" && name != "--transport" && name != "--mode" && name != "--dds-domain" &&
-        name != "--lcm-url" && name != "--prefix" && name != "--spin-us") {
+        name != "--lcm-url" && name != "--prefix" && name != "--spin-us" && name != "--journal") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -112,6 +112,9 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
         throw UsageError("--spin-us: expected microseconds 0 .. 1000000, got " + quoted(*value));
       }
       o.spin_us = us;
+    } else if (name == "--journal") {
+      if (value->empty()) throw UsageError("--journal: expected a file name, got ''");
+      o.journal = std::string(*value);
     } else if (name == "--lcm-url") {
       if (value->find("://") == std::string_view::npos) {
         throw UsageError(
@@ -144,7 +147,7 @@ std::string default_scene_path(const std::string& source_dir) {
 std::string usage() {
   return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
               [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
-              [--spin-us N] [--check]
+              [--spin-us N] [--journal FILE] [--check]
 
 Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
 and takes wrenches (forces at body points) and control requests from clients on both buses.
@@ -162,13 +165,17 @@ and takes wrenches (forces at body points) and control requests from clients on 
   --spin-us N        realtime mode: sleep to N microseconds before each tick's deadline, then
                      busy-wait to it, so that wake-up latency does not make ticks late (default
                      100; 0: sleep only)
+  --journal FILE     write every command accepted, with the tick at which it took effect, and
+                     a hash of every state published to FILE (created; an existing file is
+                     refused): rigid-sim --replay FILE re-runs the session bit for bit
   --check            validate the command line and the scene, print a summary and exit
   -h, --help         show this help
 
 Signals: SIGTERM or SIGINT stop it cleanly (exit status 0). Under systemd (Type=notify) it sends
 READY=1 after the first state is published, WATCHDOG=1 while its loop runs, STOPPING=1 on exit.
-Exit status: 0 stopped by a signal (or --check passed), 1 a bus could not be set up, 2 a bad
-command line or scene.
+Every accepted command is also published on rigid/accepted (LCM: RIGID_ACCEPTED).
+Exit status: 0 stopped by a signal (or --check passed), 1 a bus or the journal could not be set
+up, 2 a bad command line or scene.
 )";
 }
 

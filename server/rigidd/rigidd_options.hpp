@@ -23,6 +23,7 @@ struct RigiddOptions {
   std::string prefix;
   bool reliable_state = false;
   std::int64_t spin_us = 100;  // realtime: busy-wait this long before each tick's deadline
+  std::string journal;         // --journal FILE; empty: none
   bool check = false;
   bool help = false;
 };

@@ -1,11 +1,13 @@
-// rigid-sim: runs a scene in batch (no real time, no network) and reports drift and cost.
-// Wiring only: the work is in sim_options (command line) and sim_run (run and report).
+// rigid-sim: runs a scene in batch (no real time, no network) and reports drift and cost, or
+// replays a journal. Wiring only: the work is in sim_options (command line), sim_run (run and
+// report) and replay (--replay).
 #include <exception>
 #include <iostream>
 #include <string_view>
 #include <vector>
 
 #include "scene/scene.hpp"
+#include "sim/replay.hpp"
 #include "sim/sim_options.hpp"
 #include "sim/sim_run.hpp"
 
@@ -21,6 +23,13 @@ int main(int argc, char** argv) {
     if (options.list_integrators) {
       sim::print_integrators(std::cout);
       return 0;
+    }
+    if (options.replay) {
+      const sim::ReplayReport report = sim::replay(options);
+      for (const std::string& w : report.warnings)
+        std::cerr << "rigid-sim: warning: " << w << '\n';
+      sim::print_replay(std::cout, report);
+      return report.exit_status();
     }
     const scene::Scene scene = scene::load_scene(options.scene);
     for (const std::string& w : scene.warnings)

@@ -80,7 +80,7 @@ SimOptions parse_options(std::span<const std::string_view> args) {
       value = arg.substr(eq + 1);
     }
     if (name != "--duration" && name != "--integrator" && name != "--dt" && name != "--csv" &&
-        name != "--every") {
+        name != "--every" && name != "--replay") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -92,6 +92,7 @@ SimOptions parse_options(std::span<const std::string_view> args) {
       if (o.duration < 0.0) {
         throw UsageError("--duration: expected a duration in seconds >= 0, got " + quoted(*value));
       }
+      o.duration_given = true;
     } else if (name == "--dt") {
       o.dt = parse_double(name, *value, "a time step in seconds > 0");
       if (!(*o.dt > 0.0)) {
@@ -103,6 +104,9 @@ SimOptions parse_options(std::span<const std::string_view> args) {
                          " (valid: " + integrator_names() + ")");
       }
       o.integrator = std::string(*value);
+    } else if (name == "--replay") {
+      if (value->empty()) throw UsageError("--replay: expected a journal file, got ''");
+      o.replay = std::string(*value);
     } else if (name == "--csv") {
       if (value->empty()) throw UsageError("--csv: expected a file name, got ''");
       o.csv = std::string(*value);
@@ -110,14 +114,28 @@ SimOptions parse_options(std::span<const std::string_view> args) {
       o.every = parse_count(name, *value);
     }
   }
-  if (!have_scene && !o.help && !o.list_integrators) {
+  if (!have_scene && !o.help && !o.list_integrators && !o.replay) {
     throw UsageError("missing the scene file (see --help)");
+  }
+  if (o.replay) {
+    // A replay runs the journal's session as it ran: its length, its integrator, its step.
+    const char* fixed = o.duration_given ? "--duration"
+                        : o.integrator   ? "--integrator"
+                        : o.dt           ? "--dt"
+                        : o.every        ? "--every"
+                                         : nullptr;
+    if (fixed != nullptr) {
+      throw UsageError(std::string(fixed) +
+                       " cannot be combined with --replay (a replay runs the journal's session "
+                       "as it ran)");
+    }
   }
   return o;
 }
 
 std::string usage() {
   return R"(Usage: rigid-sim SCENE [--duration S] [--integrator NAME] [--dt S] [--csv OUT] [--every N]
+       rigid-sim [SCENE] --replay JOURNAL [--csv OUT]
        rigid-sim --list-integrators | --help
 
 Runs the rigid-body scene SCENE (protobuf text format) without real time and prints, per body,
@@ -132,10 +150,17 @@ time and the cost per body-step.
                        17 significant digits); OUT appears only when the run succeeds
   --every N            a CSV row every N ticks of `substeps` physics steps
                        (default: the scene's publish_every)
+  --replay JOURNAL     re-run the session rigidd journaled (rigidd --journal): apply each
+                       command at the tick it took effect, compare every state hash, and report
+                       the first divergence with its tick. SCENE, if given, must be the scene
+                       the journal holds a copy of (by default that copy is used). With --csv, a
+                       row per body for every state the journal hashed
   --list-integrators   list the integrators and what each promises; * marks the default
   -h, --help           show this help
 
-Exit status: 0 on success, 1 if the CSV cannot be written, 2 for a bad command line or scene.
+Exit status: 0 on success (replay: every state reproduced bit for bit), 1 if the CSV or the
+journal cannot be written or read, 2 for a bad command line or scene, 3 a replay diverged,
+4 a replay stopped at entries rigidd lost (its journal is incomplete).
 )";
 }
 

@@ -18,6 +18,8 @@ struct SimOptions {
   std::optional<double> dt;               // overrides the scene's physics step (s), > 0
   std::optional<std::string> csv;         // write states to this file
   std::optional<std::int64_t> every;      // CSV row every N ticks; default: scene's publish_every
+  std::optional<std::string> replay;      // re-run this journal (rigidd --journal); scene optional
+  bool duration_given = false;            // --duration was on the command line
   bool list_integrators = false;
   bool help = false;
 };

@@ -8,7 +8,7 @@
 namespace rigid::transport {
 
 template <class Message>
-struct TopicOf;  // defined for the six messages only
+struct TopicOf;  // defined for the seven messages only
 template <>
 struct TopicOf<StateFrame> {
   static constexpr Topic value = Topic::kState;
@@ -32,6 +32,10 @@ struct TopicOf<StatsReport> {
 template <>
 struct TopicOf<SceneDescription> {
   static constexpr Topic value = Topic::kScene;
+};
+template <>
+struct TopicOf<AcceptedCommand> {
+  static constexpr Topic value = Topic::kAccepted;
 };
 
 // The server publishes everything but the commands; clients publish only the commands.

@@ -115,6 +115,33 @@ struct ControlReply {
   bool operator==(const ControlReply&) const = default;
 };
 
+enum class AcceptedKind : std::int32_t { kWrench = 1, kControl = 2 };
+
+// A command the server accepted, once, with the tick at which it took effect (server -> all): a
+// wrench that entered the table of acting wrenches (it acts from the step that starts at `tick`),
+// or a control request carried out. The wrench fields hold the wrench as the server applies it
+// (its body resolved to an id); the control fields are set for kControl.
+struct AcceptedCommand {
+  std::int64_t tick = 0;
+  AcceptedKind kind = AcceptedKind::kWrench;
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  std::int32_t key = 0;
+  std::int32_t body_id = 0;
+  Vec3 force{};
+  Vec3 point{};
+  Frame force_frame = Frame::kWorld;
+  Vec3 torque{};
+  Frame torque_frame = Frame::kWorld;
+  double ttl = 0.0;
+  ControlKind command = ControlKind::kNone;
+  std::int64_t steps = 0;
+  double rtf = 0.0;
+  std::int64_t stamp_ns = 0;
+
+  bool operator==(const AcceptedCommand&) const = default;
+};
+
 // Commands the server refused, by reason.
 struct RejectCounts {
   std::int64_t non_finite = 0;

@@ -1,4 +1,4 @@
-// The six streams rigid exchanges and their names on each bus. A prefix lets two servers share one
+// The streams rigid exchanges and their names on each bus. A prefix lets two servers share one
 // network: with prefix "lab", DDS topics are "lab/rigid/state", ... and LCM channels
 // "lab_RIGID_STATE", ... An empty prefix gives the plain names.
 #pragma once
@@ -11,11 +11,20 @@
 
 namespace rigid::transport {
 
-enum class Topic : std::uint8_t { kState, kWrench, kControl, kControlReply, kStats, kScene };
+enum class Topic : std::uint8_t {
+  kState,
+  kWrench,
+  kControl,
+  kControlReply,
+  kStats,
+  kScene,
+  kAccepted,
+};
 
-inline constexpr std::array<Topic, 6> kAllTopics{Topic::kState,   Topic::kWrench,
-                                                 Topic::kControl, Topic::kControlReply,
-                                                 Topic::kStats,   Topic::kScene};
+inline constexpr std::array<Topic, 7> kAllTopics{
+    Topic::kState, Topic::kWrench, Topic::kControl,  Topic::kControlReply,
+    Topic::kStats, Topic::kScene,  Topic::kAccepted,
+};
 
 inline constexpr std::size_t index_of(Topic topic) {
   return static_cast<std::size_t>(topic);

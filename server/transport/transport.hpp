@@ -30,6 +30,7 @@ class Receiver {
   virtual void on_stats(const StatsReport& /*stats*/) {}
   virtual void on_scene(const SceneDescription& /*scene*/) {}
   virtual void on_control_reply(const ControlReply& /*reply*/) {}
+  virtual void on_accepted(const AcceptedCommand& /*accepted*/) {}
   // Either role: a payload that did not decode. Never fatal; count it.
   virtual void on_decode_error(const DecodeError& /*error*/) {}
 };
@@ -63,6 +64,10 @@ class Transport {
   virtual PublishResult publish(const StatsReport& stats) = 0;
   virtual PublishResult publish(const SceneDescription& scene) = 0;
   virtual PublishResult publish(const ControlReply& reply) = 0;
+  // Not pure, so that a stand-in transport (a test's) need not carry this topic: it then refuses.
+  virtual PublishResult publish(const AcceptedCommand& /*accepted*/) {
+    return PublishResult::kWrongRole;
+  }
   // Client role.
   virtual PublishResult publish(const WrenchCommand& wrench) = 0;
   virtual PublishResult publish(const ControlCommand& control) = 0;

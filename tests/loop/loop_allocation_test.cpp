@@ -3,15 +3,21 @@
 // driven through everything it does: ticks in each mode, wrenches (new, replaced, expiring, stale),
 // every control request, resets, refusals, and the hand-off to real Publishers (over a fake bus).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <memory>
 #include <new>
+#include <string>
 #include <thread>
 
+#include "loop/journal.hpp"
 #include "loop/publisher.hpp"
 #include "loop_harness.hpp"
+#include "rigid.pb.h"
 
 namespace {
 
@@ -76,10 +82,15 @@ class NullTransport final : public transport::Transport {
   static transport::PublishResult ok() { return transport::PublishResult::kOk; }
 };
 
-// What the server's output does: every state to every publisher, replies to the bus's publisher.
+// What the server's output does: every state to every publisher, replies to the bus's publisher,
+// journal entries to the journal (when there is one, as with rigidd --journal).
 class PublishingRecorder : public testing::Recorder {
  public:
   PublishingRecorder(Publisher& a, Publisher& b) : a_(a), b_(b) {}
+  void journal(const JournalEntry& e) override {
+    if (journal_ != nullptr) journal_->push(e);
+  }
+  void attach(Journal* j) { journal_ = j; }
   void offer_state(const transport::StateFrame& f, std::int64_t arrival_ns) override {
     a_.offer(f, arrival_ns);
     b_.offer(f, arrival_ns);
@@ -93,6 +104,7 @@ class PublishingRecorder : public testing::Recorder {
  private:
   Publisher& a_;
   Publisher& b_;
+  Journal* journal_ = nullptr;
 };
 
 const char* kScene = R"(
@@ -123,13 +135,18 @@ Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std
 // A loop wired as the server wires it (states to two publishers, replies to one), fed through
 // its queue like the intake feeds it.
 struct Rig {
-  Rig(const scene::Scene& s, Mode m)
+  Rig(const scene::Scene& s, Mode m, bool hash_states)
       : shape(shaped(s)),
         a(bus_a, shape, log),
         b(bus_b, shape, log),
         out(a, b),
-        loop(s.world, Harness::config(s, m), queue, doorbell, rejects, out) {
+        loop(s.world, config(s, m, hash_states), queue, doorbell, rejects, out) {
     out.last = shape;
+  }
+  static LoopConfig config(const scene::Scene& s, Mode m, bool hash_states) {
+    LoopConfig c = Harness::config(s, m);
+    c.hash_states = hash_states;
+    return c;
   }
   static transport::StateFrame shaped(const scene::Scene& s) {
     transport::StateFrame f;
@@ -161,8 +178,23 @@ struct Rig {
 // sources (inserted, replaced, expiring), repeated sequence numbers (refused on the loop thread),
 // every control request (some refused: a step while one runs, stale ones), then an idle second
 // (paused or lockstep: it republishes and rolls its statistics window).
-void expect_no_allocations(Mode mode) {
-  Rig rig(make_scene(kScene), mode);
+// With `journaling`, as rigidd --journal runs it: every state hashed on the loop thread and every
+// entry pushed to a real Journal writing a file from its own thread.
+void expect_no_allocations(Mode mode, bool journaling = false) {
+  Rig rig(make_scene(kScene), mode, journaling);
+  std::unique_ptr<Journal> journal;
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("loop_allocation_" + std::to_string(getpid()) + ".journal"))
+                               .string();
+  if (journaling) {
+    std::filesystem::remove(path);
+    msgs::LogHeader header;
+    header.set_kind(msgs::LogHeader::JOURNAL);
+    journal = std::make_unique<Journal>(Journal::Options{path}, header, rig.log,
+                                        [](const transport::AcceptedCommand&) {});
+    rig.out.attach(journal.get());
+    journal->start();
+  }
   rig.a.start();
   rig.b.start();
   g_loop_allocations = 0;
@@ -214,6 +246,12 @@ void expect_no_allocations(Mode mode) {
   loop_thread.join();
   rig.a.stop();
   rig.b.stop();
+  if (journal) {
+    journal->stop();
+    EXPECT_GT(journal->records(), 100);  // commands and state hashes reached the file
+    EXPECT_EQ(journal->dropped(), 0);
+    std::filesystem::remove(path);
+  }
 
   EXPECT_EQ(g_loop_allocations.load(), 0) << "allocations on the loop thread";
   // The run did what it was meant to: ticks, accepted and refused commands, replies, states.
@@ -235,6 +273,10 @@ TEST(LoopAllocation, FastModeAllocatesNothingOnTheLoopThread) {
 
 TEST(LoopAllocation, LockstepModeAllocatesNothingOnTheLoopThread) {
   expect_no_allocations(Mode::kLockstep);
+}
+
+TEST(LoopAllocation, JournalingAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kFast, true);
 }
 
 TEST(LoopAllocation, TheCounterSeesAllocations) {

@@ -37,8 +37,12 @@ std::string read(const std::filesystem::path& path) {
 
 RigiddProcess::RigiddProcess(const std::vector<std::string>& args,
                              const std::vector<std::string>& extra_env)
+    : RigiddProcess(RIGIDD_EXE, args, extra_env) {}
+
+RigiddProcess::RigiddProcess(const std::string& program, const std::vector<std::string>& args,
+                             const std::vector<std::string>& extra_env)
     : dir_(fresh_dir()) {
-  std::vector<std::string> argv_text{RIGIDD_EXE};
+  std::vector<std::string> argv_text{program};
   argv_text.insert(argv_text.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& a : argv_text)
@@ -70,7 +74,7 @@ RigiddProcess::RigiddProcess(const std::vector<std::string>& args,
   const int error = posix_spawn(&pid_, argv[0], &actions, &attr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
-  if (error != 0) throw std::runtime_error(std::string("cannot start ") + RIGIDD_EXE);
+  if (error != 0) throw std::runtime_error("cannot start " + program);
 }
 
 RigiddProcess::~RigiddProcess() {
@@ -125,7 +129,12 @@ std::string RigiddProcess::stdout_text() const {
 }
 
 Completed run_to_exit(const std::vector<std::string>& args, std::chrono::milliseconds patience) {
-  RigiddProcess p(args);
+  return run_program_to_exit(RIGIDD_EXE, args, patience);
+}
+
+Completed run_program_to_exit(const std::string& program, const std::vector<std::string>& args,
+                              std::chrono::milliseconds patience) {
+  RigiddProcess p(program, args, {});
   Completed c;
   const std::optional<int> status = p.wait_exit(patience);
   if (status && WIFEXITED(*status)) c.exit_code = WEXITSTATUS(*status);

@@ -1,6 +1,7 @@
 // rigidd as a child process for tests: started in its own process group with stdout and stderr in
 // files, stopped by PID with a signal, and killed with its whole group (SIGKILL) if a test ends
-// while it still runs, so a failing test never leaves a daemon behind.
+// while it still runs, so a failing test never leaves a daemon behind. Other programs a test runs
+// beside it (client tools, lcm-logger) are started and stopped the same way.
 #pragma once
 
 #include <sys/types.h>
@@ -19,6 +20,9 @@ class RigiddProcess {
   // environment (which carries CYCLONEDDS_URI from ctest).
   explicit RigiddProcess(const std::vector<std::string>& args,
                          const std::vector<std::string>& extra_env = {});
+  // Starts `program` (a path) instead of rigidd.
+  RigiddProcess(const std::string& program, const std::vector<std::string>& args,
+                const std::vector<std::string>& extra_env);
   ~RigiddProcess();
   RigiddProcess(const RigiddProcess&) = delete;
   RigiddProcess& operator=(const RigiddProcess&) = delete;
@@ -51,6 +55,10 @@ struct Completed {
 };
 Completed run_to_exit(const std::vector<std::string>& args,
                       std::chrono::milliseconds patience = std::chrono::milliseconds(10000));
+// The same for another program (a path).
+Completed run_program_to_exit(
+    const std::string& program, const std::vector<std::string>& args,
+    std::chrono::milliseconds patience = std::chrono::milliseconds(10000));
 
 int count_lines(const std::string& text);
 

@@ -74,6 +74,27 @@ class RandomMessages {
     return m;
   }
 
+  AcceptedCommand accepted() {
+    AcceptedCommand m;
+    m.tick = i64();
+    m.kind = any_enum<AcceptedKind>();
+    m.source = i64();
+    m.seq = i64();
+    m.key = i32();
+    m.body_id = i32();
+    m.force = vec3();
+    m.point = vec3();
+    m.force_frame = any_enum<Frame>();
+    m.torque = vec3();
+    m.torque_frame = any_enum<Frame>();
+    m.ttl = real();
+    m.command = any_enum<ControlKind>();
+    m.steps = i64();
+    m.rtf = real();
+    m.stamp_ns = i64();
+    return m;
+  }
+
   ControlCommand control() {
     ControlCommand m;
     m.source = i64();

@@ -44,6 +44,7 @@ void every_message_with_random_values_comes_back_exactly() {
     expect_round_trip(codec, random.reply());
     expect_round_trip(codec, random.stats());
     expect_round_trip(codec, random.scene(bodies));
+    expect_round_trip(codec, random.accepted());
   }
 }
 
@@ -56,6 +57,7 @@ void empty_messages_come_back() {
   expect_round_trip(codec, ControlReply{});
   expect_round_trip(codec, StatsReport{});
   expect_round_trip(codec, SceneDescription{});
+  expect_round_trip(codec, AcceptedCommand{});
 }
 
 template <class Codec>

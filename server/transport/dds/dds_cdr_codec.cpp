@@ -72,6 +72,7 @@ struct CdrCodec::Buffers {
   Slot<ControlReply> reply;
   Slot<StatsReport> stats;
   Slot<SceneDescription> scene;
+  Slot<AcceptedCommand> accepted;
 };
 
 CdrCodec::CdrCodec() : buffers_(std::make_unique<Buffers>()) {}
@@ -95,6 +96,9 @@ std::span<const std::uint8_t> CdrCodec::encode(const StatsReport& m) {
 std::span<const std::uint8_t> CdrCodec::encode(const SceneDescription& m) {
   return buffers_->scene.encode(m);
 }
+std::span<const std::uint8_t> CdrCodec::encode(const AcceptedCommand& m) {
+  return buffers_->accepted.encode(m);
+}
 
 DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, StateFrame& out) {
   return buffers_->state.decode(b, out);
@@ -113,6 +117,9 @@ DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, StatsReport& out)
 }
 DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, SceneDescription& out) {
   return buffers_->scene.decode(b, out);
+}
+DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, AcceptedCommand& out) {
+  return buffers_->accepted.decode(b, out);
 }
 
 }  // namespace rigid::transport::dds

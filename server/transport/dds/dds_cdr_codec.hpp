@@ -30,6 +30,7 @@ class CdrCodec {
   std::span<const std::uint8_t> encode(const ControlReply& message);
   std::span<const std::uint8_t> encode(const StatsReport& message);
   std::span<const std::uint8_t> encode(const SceneDescription& message);
+  std::span<const std::uint8_t> encode(const AcceptedCommand& message);
 
   // Validates the bytes the way Cyclone validates a received sample, then deserializes into the
   // idlc type and copies into `out`. Never crashes on bad input.
@@ -39,6 +40,7 @@ class CdrCodec {
   DecodeStatus decode(std::span<const std::uint8_t> bytes, ControlReply& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, StatsReport& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, SceneDescription& out);
+  DecodeStatus decode(std::span<const std::uint8_t> bytes, AcceptedCommand& out);
 
  private:
   struct Buffers;

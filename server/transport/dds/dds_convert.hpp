@@ -30,6 +30,7 @@ bool borrow(const ControlCommand& in, BorrowScratch& scratch, rigid_Control& out
 bool borrow(const ControlReply& in, BorrowScratch& scratch, rigid_ControlReply& out);
 bool borrow(const StatsReport& in, BorrowScratch& scratch, rigid_Stats& out);
 bool borrow(const SceneDescription& in, BorrowScratch& scratch, rigid_SceneInfo& out);
+bool borrow(const AcceptedCommand& in, BorrowScratch& scratch, rigid_AcceptedCommand& out);
 
 // Copies into `out`, reusing its storage. kInconsistentLengths when per-body sequences disagree.
 DecodeStatus copy_from(const rigid_WorldState& in, StateFrame& out);
@@ -38,6 +39,7 @@ DecodeStatus copy_from(const rigid_Control& in, ControlCommand& out);
 DecodeStatus copy_from(const rigid_ControlReply& in, ControlReply& out);
 DecodeStatus copy_from(const rigid_Stats& in, StatsReport& out);
 DecodeStatus copy_from(const rigid_SceneInfo& in, SceneDescription& out);
+DecodeStatus copy_from(const rigid_AcceptedCommand& in, AcceptedCommand& out);
 
 // The idlc type and topic carrying each plain message.
 template <class Plain>
@@ -77,6 +79,12 @@ struct DdsTypeOf<SceneDescription> {
   using type = rigid_SceneInfo;
   static constexpr const dds_topic_descriptor_t* descriptor = &rigid_SceneInfo_desc;
   static constexpr Topic topic = Topic::kScene;
+};
+template <>
+struct DdsTypeOf<AcceptedCommand> {
+  using type = rigid_AcceptedCommand;
+  static constexpr const dds_topic_descriptor_t* descriptor = &rigid_AcceptedCommand_desc;
+  static constexpr Topic topic = Topic::kAccepted;
 };
 
 }  // namespace rigid::transport::dds

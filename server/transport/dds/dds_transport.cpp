@@ -34,6 +34,9 @@ void deliver(Receiver& receiver, const StatsReport& message) {
 void deliver(Receiver& receiver, const SceneDescription& message) {
   receiver.on_scene(message);
 }
+void deliver(Receiver& receiver, const AcceptedCommand& message) {
+  receiver.on_accepted(message);
+}
 
 // A reader and what it takes samples into: the idlc sample (its sequences grow to the largest
 // message seen, then are reused) and the plain message handed to the Receiver.
@@ -113,6 +116,7 @@ class DdsTransport final : public Transport {
     create<ControlReply>(names, options.reliable_state);
     create<StatsReport>(names, options.reliable_state);
     create<SceneDescription>(names, options.reliable_state);
+    create<AcceptedCommand>(names, options.reliable_state);
 
     thread_ = std::thread([this] { receive_loop(); });
   }
@@ -134,6 +138,7 @@ class DdsTransport final : public Transport {
   PublishResult publish(const ControlReply& m) override { return write(m); }
   PublishResult publish(const WrenchCommand& m) override { return write(m); }
   PublishResult publish(const ControlCommand& m) override { return write(m); }
+  PublishResult publish(const AcceptedCommand& m) override { return write(m); }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
 

@@ -110,6 +110,25 @@ constexpr std::array kSceneInfoLayout{
     counted(K::kDouble, 2),  // shape_dims
 };
 
+constexpr std::array kAcceptedCommandLayout{
+    kI64,   // tick
+    kI32,   // kind
+    kI64,   // source
+    kI64,   // seq
+    kI32,   // key
+    kI32,   // body_id
+    kVec3,  // force
+    kVec3,  // point
+    kI32,   // force_frame
+    kVec3,  // torque
+    kI32,   // torque_frame
+    kF64,   // ttl
+    kI32,   // command
+    kI64,   // steps
+    kF64,   // rtf
+    kI64,   // stamp_ns
+};
+
 // One message type's scratch: separate messages for the encoding and the decoding side, so the two
 // may run on different threads.
 template <class LcmType>
@@ -155,6 +174,7 @@ struct Codec::Buffers {
   Slot<rigid_lcm::ControlReply> reply;
   Slot<rigid_lcm::Stats> stats;
   Slot<rigid_lcm::SceneInfo> scene;
+  Slot<rigid_lcm::AcceptedCommand> accepted;
 };
 
 Codec::Codec() : buffers_(std::make_unique<Buffers>()) {}
@@ -179,6 +199,10 @@ std::span<const std::uint8_t> Codec::encode(const SceneDescription& message) {
   return encode_with(buffers_->scene, message);
 }
 
+std::span<const std::uint8_t> Codec::encode(const AcceptedCommand& message) {
+  return encode_with(buffers_->accepted, message);
+}
+
 DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StateFrame& out) {
   return decode_with(buffers_->state, kWorldStateLayout, payload, out);
 }
@@ -196,6 +220,10 @@ DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StatsReport& o
 }
 DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, SceneDescription& out) {
   return decode_with(buffers_->scene, kSceneInfoLayout, payload, out);
+}
+
+DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, AcceptedCommand& out) {
+  return decode_with(buffers_->accepted, kAcceptedCommandLayout, payload, out);
 }
 
 }  // namespace rigid::transport::lcm

@@ -30,6 +30,7 @@ class Codec {
   std::span<const std::uint8_t> encode(const ControlReply& message);
   std::span<const std::uint8_t> encode(const StatsReport& message);
   std::span<const std::uint8_t> encode(const SceneDescription& message);
+  std::span<const std::uint8_t> encode(const AcceptedCommand& message);
 
   // Fills `out` (reusing its storage) and returns kOk, or returns why not; `out` is then
   // unspecified but valid. Never throws on bad input.
@@ -39,6 +40,7 @@ class Codec {
   DecodeStatus decode(std::span<const std::uint8_t> payload, ControlReply& out);
   DecodeStatus decode(std::span<const std::uint8_t> payload, StatsReport& out);
   DecodeStatus decode(std::span<const std::uint8_t> payload, SceneDescription& out);
+  DecodeStatus decode(std::span<const std::uint8_t> payload, AcceptedCommand& out);
 
  private:
   struct Buffers;

@@ -263,4 +263,44 @@ DecodeStatus from_lcm(const rigid_lcm::SceneInfo& in, SceneDescription& out) {
   return DecodeStatus::kOk;
 }
 
+bool to_lcm(const AcceptedCommand& in, rigid_lcm::AcceptedCommand& out) {
+  out.tick = in.tick;
+  out.kind = static_cast<std::int32_t>(in.kind);
+  out.source = in.source;
+  out.seq = in.seq;
+  out.key = in.key;
+  out.body_id = in.body_id;
+  copy3(in.force, out.force);
+  copy3(in.point, out.point);
+  out.force_frame = static_cast<std::int32_t>(in.force_frame);
+  copy3(in.torque, out.torque);
+  out.torque_frame = static_cast<std::int32_t>(in.torque_frame);
+  out.ttl = in.ttl;
+  out.command = static_cast<std::int32_t>(in.command);
+  out.steps = in.steps;
+  out.rtf = in.rtf;
+  out.stamp_ns = in.stamp_ns;
+  return true;
+}
+
+DecodeStatus from_lcm(const rigid_lcm::AcceptedCommand& in, AcceptedCommand& out) {
+  out.tick = in.tick;
+  out.kind = static_cast<AcceptedKind>(in.kind);
+  out.source = in.source;
+  out.seq = in.seq;
+  out.key = in.key;
+  out.body_id = in.body_id;
+  copy3(in.force, out.force);
+  copy3(in.point, out.point);
+  out.force_frame = static_cast<Frame>(in.force_frame);
+  copy3(in.torque, out.torque);
+  out.torque_frame = static_cast<Frame>(in.torque_frame);
+  out.ttl = in.ttl;
+  out.command = static_cast<ControlKind>(in.command);
+  out.steps = in.steps;
+  out.rtf = in.rtf;
+  out.stamp_ns = in.stamp_ns;
+  return DecodeStatus::kOk;
+}
+
 }  // namespace rigid::transport::lcm

@@ -2,6 +2,7 @@
 // destination's storage. Only the LCM adapter and codec include this.
 #pragma once
 
+#include <rigid_lcm/AcceptedCommand.hpp>
 #include <rigid_lcm/Control.hpp>
 #include <rigid_lcm/ControlReply.hpp>
 #include <rigid_lcm/SceneInfo.hpp>
@@ -21,6 +22,7 @@ bool to_lcm(const ControlCommand& in, rigid_lcm::Control& out);
 bool to_lcm(const ControlReply& in, rigid_lcm::ControlReply& out);
 bool to_lcm(const StatsReport& in, rigid_lcm::Stats& out);
 bool to_lcm(const SceneDescription& in, rigid_lcm::SceneInfo& out);
+bool to_lcm(const AcceptedCommand& in, rigid_lcm::AcceptedCommand& out);
 
 // kInconsistentLengths when the count fields disagree (e.g. num_xyz != 3 * num_bodies).
 DecodeStatus from_lcm(const rigid_lcm::WorldState& in, StateFrame& out);
@@ -29,5 +31,6 @@ DecodeStatus from_lcm(const rigid_lcm::Control& in, ControlCommand& out);
 DecodeStatus from_lcm(const rigid_lcm::ControlReply& in, ControlReply& out);
 DecodeStatus from_lcm(const rigid_lcm::Stats& in, StatsReport& out);
 DecodeStatus from_lcm(const rigid_lcm::SceneInfo& in, SceneDescription& out);
+DecodeStatus from_lcm(const rigid_lcm::AcceptedCommand& in, AcceptedCommand& out);
 
 }  // namespace rigid::transport::lcm

@@ -38,6 +38,9 @@ void deliver(Receiver& receiver, const StatsReport& message) {
 void deliver(Receiver& receiver, const SceneDescription& message) {
   receiver.on_scene(message);
 }
+void deliver(Receiver& receiver, const AcceptedCommand& message) {
+  receiver.on_accepted(message);
+}
 
 // What the receive thread needs to turn a payload into a callback.
 struct Intake {
@@ -105,6 +108,7 @@ class LcmTransport final : public Transport {
     subscribe<ControlReply>(intake);
     subscribe<StatsReport>(intake);
     subscribe<SceneDescription>(intake);
+    subscribe<AcceptedCommand>(intake);
     thread_ = std::thread([this] { receive_loop(); });
   }
 
@@ -126,6 +130,7 @@ class LcmTransport final : public Transport {
   PublishResult publish(const ControlReply& m) override { return send(m); }
   PublishResult publish(const WrenchCommand& m) override { return send(m); }
   PublishResult publish(const ControlCommand& m) override { return send(m); }
+  PublishResult publish(const AcceptedCommand& m) override { return send(m); }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
 

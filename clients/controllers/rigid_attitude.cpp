@@ -1,0 +1,202 @@
+// rigid-attitude: an example controller. Reads the body's state from rigidd, runs the attitude law
+// of attitude_control.hpp at a fixed rate, and publishes the six thrusters' forces as wrenches.
+#include <signal.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <numbers>
+#include <string_view>
+#include <vector>
+
+#include "attitude_control.hpp"
+#include "attitude_options.hpp"
+#include "common/session.hpp"
+#include "rigidd/signal_watcher.hpp"
+
+namespace {
+
+using namespace rigid;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+using controllers::Quat;
+using controllers::Vec3;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr auto kSettleHold = 1s;
+constexpr auto kPrintPeriod = 200ms;
+
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
+  clients::Session session(o.bus);
+  const auto scene = session.wait_scene(o.timeout);
+  if (!scene) {
+    std::cerr << "rigid-attitude: no SceneInfo from rigidd within "
+              << static_cast<double>(o.timeout.count()) / 1000.0 << " s on "
+              << clients::describe(o.bus) << '\n';
+    return clients::kExitTimeout;
+  }
+  std::optional<std::int32_t> id;
+  if (o.body.empty()) {
+    if (scene->body_count() != 1) {
+      std::cerr << "rigid-attitude: the scene has " << scene->body_count() << " bodies: name one ("
+                << clients::body_list(*scene) << ")\n";
+      return clients::kExitUsage;
+    }
+    id = scene->ids[0];
+  } else {
+    id = clients::find_body(*scene, o.body);
+  }
+  if (!id) {
+    std::cerr << "rigid-attitude: no body " << clients::quoted(o.body)
+              << " in the scene (bodies: " << clients::body_list(*scene) << ")\n";
+    return clients::kExitUsage;
+  }
+  std::size_t index = 0;
+  while (scene->ids[index] != *id)
+    ++index;
+  const std::string name = scene->names[index];
+  const controllers::Mat3 I_B = controllers::inertia_from(&scene->inertia[6 * index]);
+  if (I_B.trace() <= 0) {
+    std::cerr << "rigid-attitude: " << name << " is a point mass: it has no attitude to hold\n";
+    return clients::kExitUsage;
+  }
+  Vec3 half;
+  if (scene->shape_kinds[index] == transport::ShapeKind::kBox) {
+    half = 0.5 * Vec3(scene->shape_dims[3 * index], scene->shape_dims[3 * index + 1],
+                      scene->shape_dims[3 * index + 2]);
+  } else if (o.arm) {
+    half = Vec3::Constant(*o.arm);
+  } else {
+    std::cerr << "rigid-attitude: " << name
+              << " is not a box: give the thrusters' lever arm with --arm M\n";
+    return clients::kExitUsage;
+  }
+  const Quat target = controllers::from_rpy(o.target_rpy_deg[0] * kDeg, o.target_rpy_deg[1] * kDeg,
+                                            o.target_rpy_deg[2] * kDeg);
+  const controllers::AttitudeController law(I_B, controllers::ThrusterSet::box(half, o.max_thrust),
+                                            target);
+  const auto& thrusters = law.thrusters().thrusters();
+
+  const auto period = std::chrono::duration_cast<Clock::duration>(1s / o.rate_hz);
+  // A wrench outlives a few periods: if this controller stops, its thrust stops with it.
+  const double ttl = 3.0 * seconds(period);
+  std::printf(
+      "rigid-attitude: holding %s at roll %g pitch %g yaw %g deg with 6 thrusters of %g N "
+      "at %g Hz\n",
+      name.c_str(), o.target_rpy_deg[0], o.target_rpy_deg[1], o.target_rpy_deg[2], o.max_thrust,
+      o.rate_hz);
+  std::fflush(stdout);
+
+  transport::WrenchCommand w;
+  w.body_id = *id;
+  w.force_frame = transport::Frame::kBody;
+  w.ttl = ttl;
+  const auto publish = [&](const controllers::Thrusts& u, double wrench_ttl) {
+    for (std::size_t i = 0; i < thrusters.size(); ++i) {
+      const Vec3 f = u[i] * thrusters[i].axis_B;
+      w.key = static_cast<std::int32_t>(i);
+      w.force = {f.x(), f.y(), f.z()};
+      w.point = {thrusters[i].point_B.x(), thrusters[i].point_B.y(), thrusters[i].point_B.z()};
+      w.ttl = wrench_ttl;
+      session.send(w);
+    }
+  };
+
+  const auto start = Clock::now();
+  auto next = start;
+  auto next_print = start;
+  bool within = false;  // of the target since within_since
+  Clock::time_point within_since = start;
+  bool settled = false;
+  std::int64_t last_tick = -1;
+  auto last_new_state = start;
+  int status = clients::kExitOk;
+  for (;;) {
+    const auto now = Clock::now();
+    if (o.duration && seconds(now - start) >= *o.duration) {
+      if (o.exit_when_settled && !settled) {
+        std::printf("rigid-attitude: not settled within %g deg after %g s\n", o.settle_deg,
+                    *o.duration);
+        status = clients::kExitFailed;
+      }
+      break;
+    }
+    const auto state = session.latest_state();
+    if (state && state->tick != last_tick) {
+      last_tick = state->tick;
+      last_new_state = now;
+    }
+    if (now - last_new_state > o.timeout) {
+      std::cerr << "rigid-attitude: no state from rigidd for "
+                << static_cast<double>(o.timeout.count()) / 1000.0 << " s on "
+                << clients::describe(o.bus) << '\n';
+      return clients::kExitTimeout;
+    }
+    if (state && state->body_count() > index && state->ids[index] == *id) {
+      const double* q = &state->orientation[4 * index];
+      const double* wv = &state->angular_velocity[3 * index];
+      const Quat q_WB(q[0], q[1], q[2], q[3]);
+      const Vec3 w_W(wv[0], wv[1], wv[2]);
+      const controllers::Thrusts u = law.thrusts(q_WB, w_W);
+      publish(u, ttl);
+      const double error = controllers::angle_between(q_WB, target) / kDeg;
+      if (error >= o.settle_deg) {
+        within = false;
+      } else if (!within) {
+        within = true;
+        within_since = now;
+      }
+      if (now >= next_print) {
+        double thrust = 0;
+        for (const double ui : u)
+          thrust = std::max(thrust, std::abs(ui));
+        std::printf("t %7.2f s  error %8.3f deg  rate %6.3f rad/s  thrust max %5.2f N\n",
+                    seconds(now - start), error, w_W.norm(), thrust);
+        std::fflush(stdout);
+        next_print = now + kPrintPeriod;
+      }
+      if (!settled && within && now - within_since >= kSettleHold) {
+        settled = true;
+        std::printf("rigid-attitude: settled within %g deg after %.2f s\n", o.settle_deg,
+                    seconds(within_since - start));
+        std::fflush(stdout);
+        if (o.exit_when_settled) break;
+      }
+    }
+    next += period;
+    if (next < Clock::now()) next = Clock::now();  // fell behind: do not try to catch up
+    if (signals.wait(std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()))) {
+      break;
+    }
+  }
+  publish({}, 0.0);  // thrust off now, not a ttl later
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  controllers::AttitudeOptions options;
+  try {
+    options = controllers::parse_options(args);
+  } catch (const clients::UsageError& e) {
+    std::cerr << "rigid-attitude: " << e.what() << '\n';
+    return clients::kExitUsage;
+  }
+  if (options.help) {
+    std::cout << controllers::usage();
+    return clients::kExitOk;
+  }
+  try {
+    rigidd::SignalWatcher signals({SIGINT, SIGTERM});  // before the bus starts its threads
+    return run(options, signals);
+  } catch (const std::exception& e) {
+    std::cerr << "rigid-attitude: " << e.what() << '\n';
+    return clients::kExitFailed;
+  }
+}

@@ -1,0 +1,59 @@
+// rigidctl's command line: a command and its arguments, the bus options, and their checks (every
+// error is one line naming the argument and its value; rigidctl then exits with status 2).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/cli.hpp"
+
+namespace rigid::ctl {
+
+enum class Command {
+  kBodies,
+  kEcho,
+  kStats,
+  kPause,
+  kResume,
+  kStep,
+  kReset,
+  kRate,
+  kPush,
+};
+
+struct CtlOptions {
+  Command command = Command::kBodies;
+  clients::BusOptions bus;
+  std::chrono::milliseconds timeout{5000};  // for an answer from rigidd
+  bool help = false;
+
+  // echo
+  std::vector<std::string> bodies;  // empty: all
+  std::optional<double> rate_hz;  // display rate; default 10 Hz for the table, every state for CSV
+  bool csv = false;
+  std::optional<std::int64_t> count;  // stop after this many outputs
+  // stats
+  bool once = false;
+  // step
+  std::int64_t steps = 0;
+  // rate
+  double rtf = 1.0;
+  // push
+  std::string body;
+  transport::Vec3 force{};
+  transport::Vec3 point{};
+  transport::Frame frame = transport::Frame::kWorld;
+  double for_seconds = 0.0;  // ttl: 0 = one tick
+};
+
+// Parses the arguments after the program name. Throws clients::UsageError.
+CtlOptions parse_options(std::span<const std::string_view> args);
+
+std::string usage();
+
+}  // namespace rigid::ctl

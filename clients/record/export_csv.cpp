@@ -1,0 +1,182 @@
+#include "record/export_csv.hpp"
+
+#include <map>
+#include <ostream>
+
+#include "common/state_rows.hpp"
+#include "record/lcm_log.hpp"
+#include "records/log_records.hpp"
+#include "records/record_file.hpp"
+#include "sim/atomic_file.hpp"
+#include "sim/state_csv.hpp"
+#include "transport/lcm/lcm_codec.hpp"
+#include "transport/topic.hpp"
+
+namespace rigid::record {
+namespace {
+
+constexpr std::size_t kChunk = 1 << 20;  // CSV bytes buffered before a write
+
+struct Exported {
+  std::int64_t states = 0;
+  std::int64_t rows = 0;
+  std::string note;  // how the input ended, when not cleanly
+};
+
+// The CSV being written: rows buffered, then handed to the AtomicFile.
+class CsvOut {
+ public:
+  explicit CsvOut(const std::string& path) : file_(path) { text_ += sim::kStateCsvHeader; }
+  void add(const transport::StateFrame& f, const clients::BodyNames& names, Exported& e) {
+    clients::append_frame_rows(f, names, text_);
+    ++e.states;
+    e.rows += static_cast<std::int64_t>(f.body_count());
+    if (text_.size() >= kChunk) {
+      file_.write(text_);
+      text_.clear();
+    }
+  }
+  void commit() {
+    file_.write(text_);
+    file_.commit();
+  }
+
+ private:
+  sim::AtomicFile file_;
+  std::string text_;
+};
+
+std::string damage_note(const records::Damage& d) {
+  return "stopped at a damaged tail at offset " + std::to_string(d.offset) + " (" + d.reason +
+         "), " + std::to_string(d.bytes) + " bytes not read";
+}
+
+Exported from_rigid_log(const RecordOptions& o) {
+  records::RecordReader reader(o.file);
+  CsvOut csv(o.csv);
+  Exported e;
+  clients::BodyNames names;
+  msgs::LogRecord r;
+  transport::StateFrame frame;
+  transport::SceneDescription scene;
+  while (reader.next(r)) {
+    if (r.has_header() && records::from_record(r.header().scene(), scene)) {
+      names = clients::BodyNames(scene);
+    } else if (r.has_scene() && records::from_record(r.scene(), scene)) {
+      names = clients::BodyNames(scene);
+    } else if (r.has_state()) {
+      if (!records::from_record(r.state(), frame)) {
+        throw records::LogFileError(o.file + ": record " + std::to_string(reader.records()) +
+                                    ": a state whose arrays disagree with its body count");
+      }
+      csv.add(frame, names, e);
+    }
+  }
+  if (reader.damage()) e.note = damage_note(*reader.damage());
+  csv.commit();
+  return e;
+}
+
+// The channel names of rigidd's state and scene in an LCM log: with --prefix, that prefix's;
+// else the unprefixed ones if present, else the one prefix the log holds.
+std::pair<std::string, std::string> lcm_channels(const RecordOptions& o,
+                                                 const std::map<std::string, std::int64_t>& seen) {
+  using transport::Topic;
+  const auto names = [](const std::string& prefix) {
+    const transport::TopicNames n = transport::lcm_channel_names(prefix);
+    return std::pair{n[transport::index_of(Topic::kState)], n[transport::index_of(Topic::kScene)]};
+  };
+  if (o.bus_prefix_given) return names(o.bus.prefix);
+  const std::string plain = names("").first;
+  if (seen.contains(plain)) return names("");
+  std::vector<std::string> prefixes;
+  for (const auto& [channel, n] : seen) {
+    if (channel.size() > plain.size() + 1 && channel.ends_with("_" + plain)) {
+      prefixes.push_back(channel.substr(0, channel.size() - plain.size() - 1));
+    }
+  }
+  if (prefixes.size() > 1) {
+    std::string list;
+    for (const std::string& p : prefixes)
+      list += (list.empty() ? "" : ", ") + p;
+    throw clients::UsageError(o.file + " holds the states of several prefixes (" + list +
+                              "): choose one with --prefix");
+  }
+  if (prefixes.empty()) {
+    throw records::LogFileError(o.file + ": no " + plain + " channel (of any prefix) in this log");
+  }
+  return names(prefixes.front());
+}
+
+Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
+  // First pass: which channels, and the scene (LCM sends it once a second, so it may come after
+  // the first states).
+  std::map<std::string, std::int64_t> seen;
+  {
+    LcmLogReader reader(o.file);
+    LcmEvent event;
+    while (reader.next(event))
+      ++seen[event.channel];
+  }
+  const auto [state_channel, scene_channel] = lcm_channels(o, seen);
+  transport::lcm::Codec codec;
+  transport::SceneDescription scene;
+  clients::BodyNames names;
+  {
+    LcmLogReader reader(o.file);
+    LcmEvent event;
+    while (reader.next(event)) {
+      if (event.channel == scene_channel &&
+          codec.decode(event.data, scene) == transport::DecodeStatus::kOk) {
+        names = clients::BodyNames(scene);
+        break;
+      }
+    }
+  }
+  if (names.empty()) {
+    err << "rigid-record: export: no " << scene_channel << " in " << o.file
+        << ": bodies are named by id\n";
+  }
+  LcmLogReader reader(o.file);
+  CsvOut csv(o.csv);
+  Exported e;
+  LcmEvent event;
+  transport::StateFrame frame;
+  std::int64_t undecodable = 0;
+  while (reader.next(event)) {
+    if (event.channel != state_channel) continue;
+    if (codec.decode(event.data, frame) != transport::DecodeStatus::kOk) {
+      ++undecodable;
+      continue;
+    }
+    csv.add(frame, names, e);
+  }
+  if (reader.damage()) e.note = damage_note(*reader.damage());
+  if (undecodable > 0) {
+    e.note += (e.note.empty() ? "" : "; ") + std::to_string(undecodable) + " events on " +
+              state_channel + " did not decode and were skipped";
+  }
+  csv.commit();
+  return e;
+}
+
+}  // namespace
+
+int export_csv(const RecordOptions& o, std::ostream& out, std::ostream& err) {
+  try {
+    const bool lcm = records::looks_like_lcm_log(o.file);
+    const Exported e = lcm ? from_lcm_log(o, err) : from_rigid_log(o);
+    out << o.csv << ": " << e.states << " states, " << e.rows << " rows from " << o.file
+        << (lcm ? " (lcm-logger log)" : "") << '\n';
+    if (!e.note.empty()) err << "rigid-record: export: " << e.note << '\n';
+    return clients::kExitOk;
+  } catch (const clients::UsageError& e) {
+    err << "rigid-record: export: " << e.what() << '\n';
+    return clients::kExitUsage;
+  } catch (const std::runtime_error& e) {
+    err << "rigid-record: " << e.what() << '\n';
+    return clients::kExitFailed;
+  }
+}
+
+}  // namespace rigid::record

@@ -1,0 +1,228 @@
+#include "record/recorder.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <utility>
+
+#include "common/session.hpp"
+#include "records/log_records.hpp"
+#include "records/record_file.hpp"
+#include "transport/lcm/lcm_transport.hpp"
+
+namespace rigid::record {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+std::int64_t unix_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Records from the transport's thread to the writer, with what they are, for the live line.
+class RecordQueue {
+ public:
+  // The recording starts now: what came before (while waiting for the scene) is dropped.
+  void start() {
+    const std::lock_guard lock(mutex_);
+    start_ = Clock::now();
+    started_ = true;
+    queue_.clear();
+    queued_bytes_ = 0;
+  }
+
+  template <class Fill>
+  void push(Fill fill) {
+    Clock::time_point start;
+    {
+      const std::lock_guard lock(mutex_);
+      if (!started_) return;
+      start = start_;
+    }
+    msgs::LogRecord record;
+    fill(record,
+         std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count());
+    const std::size_t bytes = record.ByteSizeLong();
+    const std::lock_guard lock(mutex_);
+    if (queued_bytes_ + bytes > kMaxQueuedBytes) {
+      ++dropped_;
+      return;
+    }
+    queued_bytes_ += bytes;
+    queue_.push_back(std::move(record));
+  }
+
+  std::deque<msgs::LogRecord> take() {
+    const std::lock_guard lock(mutex_);
+    queued_bytes_ = 0;
+    return std::exchange(queue_, {});
+  }
+  std::int64_t dropped() const {
+    const std::lock_guard lock(mutex_);
+    return dropped_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  Clock::time_point start_;
+  bool started_ = false;
+  std::deque<msgs::LogRecord> queue_;
+  std::size_t queued_bytes_ = 0;
+  std::int64_t dropped_ = 0;
+};
+
+struct Counts {
+  std::int64_t states = 0, scenes = 0, stats = 0, commands = 0;
+  void count(const msgs::LogRecord& r) {
+    states += r.has_state();
+    scenes += r.has_scene();
+    stats += r.has_stats();
+    commands += r.has_command();
+  }
+};
+
+std::string live_line(const std::string& path, double seconds, const Counts& c, std::uint64_t bytes,
+                      std::int64_t dropped) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer,
+                "%s: %.1f s, %lld states, %lld commands, %lld stats, %lld scenes, %.2f MB",
+                path.c_str(), seconds, static_cast<long long>(c.states),
+                static_cast<long long>(c.commands), static_cast<long long>(c.stats),
+                static_cast<long long>(c.scenes), static_cast<double>(bytes) / 1e6);
+  std::string line = buffer;
+  if (dropped > 0) line += ", " + std::to_string(dropped) + " dropped (the disk is too slow)";
+  return line;
+}
+
+msgs::LogHeader header(const RecordOptions& o, const transport::SceneDescription& scene) {
+  msgs::LogHeader h;
+  h.set_kind(msgs::LogHeader::RECORDING);
+  h.set_schema_version(records::kLogSchemaVersion);
+  h.set_software_version(records::software_version());
+  h.set_writer("rigid-record");
+  h.set_start_unix_ns(unix_ns());
+  records::to_record(scene, 0, *h.mutable_scene());
+  h.set_integrator(scene.integrator);
+  h.set_rate_hz(scene.dt > 0 ? 1.0 / scene.dt : 0.0);
+  const bool dds = o.bus.bus == transport::Bus::kDds;
+  h.set_transport(dds ? "dds" : "lcm");
+  h.set_prefix(o.bus.prefix);
+  h.set_address(
+      dds ? "domain " + std::to_string(o.bus.dds_domain)
+          : (o.bus.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : o.bus.lcm_url));
+  return h;
+}
+
+}  // namespace
+
+int record(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& err) {
+  // The file first: a name that cannot be used fails at once, not after the wait for rigidd.
+  std::optional<records::RecordWriter> file;
+  try {
+    file.emplace(o.file, o.force);
+  } catch (const records::LogFileError& e) {
+    err << "rigid-record: " << e.what() << '\n';
+    return clients::kExitFailed;
+  }
+  RecordQueue queue;
+  std::optional<transport::SceneDescription> last_scene;
+  std::mutex scene_mutex;
+  std::unique_ptr<clients::Session> session;
+  try {
+    session = std::make_unique<clients::Session>(o.bus);
+  } catch (const transport::TransportError& e) {
+    err << "rigid-record: " << e.what() << '\n';
+    file.reset();
+    std::filesystem::remove(o.file);
+    return clients::kExitFailed;
+  }
+  session->on_each_state([&](const transport::StateFrame& s) {
+    queue.push(
+        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_state()); });
+  });
+  session->on_each_stats([&](const transport::StatsReport& s) {
+    queue.push(
+        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_stats()); });
+  });
+  session->on_each_accepted([&](const transport::AcceptedCommand& a) {
+    queue.push([&](msgs::LogRecord& r, std::int64_t t) {
+      records::to_record(a, t, *r.mutable_command());
+    });
+  });
+  session->on_each_scene([&](const transport::SceneDescription& s) {
+    // LCM repeats the scene every second: keep it only when it changes.
+    {
+      const std::lock_guard lock(scene_mutex);
+      if (last_scene && *last_scene == s) return;
+      last_scene = s;
+    }
+    queue.push(
+        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_scene()); });
+  });
+
+  const auto scene = session->wait_scene(o.timeout);
+  if (!scene) {
+    err << "rigid-record: no SceneInfo from rigidd within "
+        << static_cast<double>(o.timeout.count()) / 1000.0 << " s on " << clients::describe(o.bus)
+        << " (is rigidd running, with the same --transport, --prefix and --dds-domain?); " << o.file
+        << " not written\n";
+    session.reset();
+    file.reset();
+    std::filesystem::remove(o.file);
+    return clients::kExitTimeout;
+  }
+
+  const bool tty = ::isatty(STDERR_FILENO) == 1;
+  Counts counts;
+  queue.start();
+  const auto start = Clock::now();
+  auto next_line = start;
+  const auto line_period = tty ? 500ms : 5000ms;
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  try {
+    msgs::LogRecord head;
+    *head.mutable_header() = header(o, *scene);
+    file->append(head);
+    for (;;) {
+      const std::optional<int> signal = signals.wait(kFlushPeriod);
+      const bool done = signal || (o.duration && elapsed() >= *o.duration);
+      if (done) session.reset();  // no more messages: what is queued is all there is
+      for (const msgs::LogRecord& r : queue.take()) {
+        file->append(r);
+        counts.count(r);
+      }
+      file->flush();
+      if (done) break;
+      if (Clock::now() >= next_line) {
+        err << (tty ? "\r" : "") << "recording "
+            << live_line(o.file, elapsed(), counts, file->bytes(), queue.dropped())
+            << (tty ? "\x1b[K" : "\n");
+        err.flush();
+        next_line = Clock::now() + line_period;
+      }
+    }
+    msgs::LogRecord end;
+    end.mutable_end()->set_records(file->records());
+    end.mutable_end()->set_dropped(queue.dropped());
+    end.mutable_end()->set_end_unix_ns(unix_ns());
+    file->append(end);
+    file->close();
+  } catch (const records::LogFileError& e) {
+    err << (tty ? "\n" : "") << "rigid-record: " << e.what() << '\n';
+    return clients::kExitFailed;
+  }
+  err << (tty ? "\r" : "") << "recorded "
+      << live_line(o.file, elapsed(), counts, file->bytes(), queue.dropped())
+      << (tty ? "\x1b[K\n" : "\n");
+  return clients::kExitOk;
+}
+
+}  // namespace rigid::record

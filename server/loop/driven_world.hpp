@@ -1,0 +1,56 @@
+// A physics World driven by wrench commands one tick at a time: the table of acting wrenches, the
+// world's applied loads rebuilt from it before each tick, and the tick counter. The loop (loop.hpp)
+// drives its world through this class, and rigid-sim --replay drives its own through it too, so a
+// replay applies each journaled wrench exactly as the live loop did: the same table, the same
+// order of summation, the same expiry. Nothing here knows about time, threads or buses.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "loop/command.hpp"
+#include "loop/wrench_table.hpp"
+#include "physics/world.hpp"
+
+namespace rigid::loop {
+
+class DrivenWorld {
+ public:
+  // tick_dt: the tick period (1 / rate_hz), which turns a wrench's ttl into ticks; substeps:
+  // physics steps per tick; wrench_capacity: acting wrenches at most.
+  DrivenWorld(const physics::WorldSpec& spec, double tick_dt, int substeps,
+              std::size_t wrench_capacity);
+
+  // A validated wrench: it acts from the next tick for ticks_to_live(ttl) ticks, replacing the
+  // one with the same (source, body, key). kFull: a new key and no room; nothing changed.
+  WrenchTable::Upsert apply(const Wrench& wrench);
+  // One tick: loads the acting wrenches (in arrival order) into the world, runs `substeps`
+  // physics steps, advances the tick and drops the wrenches that have expired. Allocation-free.
+  void step_tick();
+  // The scene's initial state at tick 0, with no wrenches.
+  void reset();
+
+  std::int64_t tick() const { return tick_; }
+  const physics::World& world() const { return world_; }
+  std::size_t wrench_count() const { return wrenches_.size(); }
+  std::size_t wrench_capacity() const { return wrenches_.capacity(); }
+  double tick_dt() const { return tick_dt_; }
+  int substeps() const { return substeps_; }
+
+ private:
+  void load_wrenches();
+  void clear_loaded();
+
+  physics::World world_;
+  double tick_dt_;
+  int substeps_;
+  WrenchTable wrenches_;
+  std::int64_t tick_ = 0;
+  // Bodies that hold applied loads from the last rebuild (capacity: every wrench on its own body),
+  // and a per-body mark so that each is listed once: the rebuild clears just these, not every
+  // body of the world (30-60 us a tick with 10^4 bodies).
+  std::vector<int> loaded_;
+  std::vector<std::uint8_t> is_loaded_;
+};
+
+}  // namespace rigid::loop

@@ -1,0 +1,27 @@
+// The messages rigid exchanges (transport/messages.hpp) as log records (msgs/rigid.proto, "Log
+// records") and back, for rigid-record's recordings and rigidd's journal. Numbers are copied
+// exactly (doubles stay doubles), so a state read back from a file equals the one received.
+#pragma once
+
+#include <cstdint>
+
+#include "rigid.pb.h"
+#include "transport/messages.hpp"
+
+namespace rigid::records {
+
+// recorded_ns: CLOCK_MONOTONIC since the file was started (the pace `play` replays at).
+void to_record(const transport::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out);
+void to_record(const transport::SceneDescription& in, std::int64_t recorded_ns,
+               msgs::SceneRecord& out);
+void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out);
+void to_record(const transport::AcceptedCommand& in, std::int64_t recorded_ns,
+               msgs::CommandRecord& out);
+
+// false: the record's per-body arrays disagree with its body count (`out` is then unspecified).
+bool from_record(const msgs::StateRecord& in, transport::StateFrame& out);
+bool from_record(const msgs::SceneRecord& in, transport::SceneDescription& out);
+void from_record(const msgs::StatsRecord& in, transport::StatsReport& out);
+void from_record(const msgs::CommandRecord& in, transport::AcceptedCommand& out);
+
+}  // namespace rigid::records

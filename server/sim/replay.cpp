@@ -1,0 +1,238 @@
+// Re-running a journal, and the report at the end.
+#include "sim/replay.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+#include "loop/driven_world.hpp"
+#include "loop/journal_entry.hpp"
+#include "loop/state_conversion.hpp"
+#include "loop/state_hash.hpp"
+#include "records/log_records.hpp"
+#include "records/record_file.hpp"
+#include "scene/scene.hpp"
+#include "sim/atomic_file.hpp"
+#include "sim/state_csv.hpp"
+
+namespace rigid::sim {
+namespace {
+
+// rigidd's default (loop::ServerOptions::wrench_capacity), for a journal that does not say.
+constexpr std::uint64_t kDefaultWrenchCapacity = 4096;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string hex(std::uint64_t v) {
+  char buffer[24];
+  std::snprintf(buffer, sizeof buffer, "%016" PRIx64, v);
+  return buffer;
+}
+
+// The journal's header, checked: a JOURNAL of a schema this program reads.
+msgs::LogHeader read_header(records::RecordReader& reader) {
+  msgs::LogRecord record;
+  if (!reader.next(record) || !record.has_header()) {
+    throw std::runtime_error(reader.path() + ": no header record" +
+                             (reader.damage() ? " (" + reader.damage()->reason + ")" : ""));
+  }
+  const msgs::LogHeader& h = record.header();
+  if (h.kind() != msgs::LogHeader::JOURNAL) {
+    throw std::runtime_error(reader.path() +
+                             ": not a journal but a recording (rigid-record info describes it; "
+                             "journals come from rigidd --journal)");
+  }
+  if (h.schema_version() > records::kLogSchemaVersion) {
+    throw std::runtime_error(reader.path() + ": log schema version " +
+                             std::to_string(h.schema_version()) + ", this program reads up to " +
+                             std::to_string(records::kLogSchemaVersion));
+  }
+  return h;
+}
+
+scene::Scene journal_scene(const SimOptions& options, const msgs::LogHeader& h,
+                           ReplayReport& report) {
+  const std::string& journal = *options.replay;
+  if (options.scene.empty()) {
+    if (h.scene_text().empty()) {
+      throw UsageError(journal + ": holds no copy of its scene: give the SCENE it ran");
+    }
+    report.scene = journal + " (its copy of " + h.scene().scene_name() + ")";
+    return scene::parse_scene(h.scene_text(), journal + ":scene");
+  }
+  scene::Scene s = scene::load_scene(options.scene);
+  report.scene = options.scene;
+  if (h.scene_text().empty()) {
+    report.warnings.push_back(journal + " holds no copy of its scene: cannot check that " +
+                              options.scene + " is the scene it ran");
+  } else if (read_text(options.scene) != h.scene_text()) {
+    throw UsageError(options.scene + ": not the scene " + journal + " was recorded with (" +
+                     h.scene().scene_name() +
+                     "); the journal holds a copy of it: leave SCENE out to use it");
+  }
+  return s;
+}
+
+}  // namespace
+
+ReplayReport replay(const SimOptions& options) {
+  ReplayReport r;
+  r.journal = *options.replay;
+  records::RecordReader reader(r.journal);  // throws records::LogFileError, a std::runtime_error
+  const msgs::LogHeader header = read_header(reader);
+  const scene::Scene scene = journal_scene(options, header, r);
+  for (const std::string& w : scene.warnings)
+    r.warnings.push_back(w);
+
+  r.software_version = header.software_version();
+  if (header.software_version() != records::software_version()) {
+    r.warnings.push_back("journal written by " + header.software_version() + ", replayed by " +
+                         records::software_version() +
+                         ": only the same build promises bit-identical states");
+  }
+  const double tick_dt = 1.0 / scene.rate_hz;
+  const std::uint64_t capacity =
+      header.wrench_capacity() > 0 ? header.wrench_capacity() : kDefaultWrenchCapacity;
+  loop::DrivenWorld driven(scene.world, tick_dt, scene.substeps, capacity);
+  r.integrator = std::string(driven.world().integrator().name);
+  r.rate_hz = scene.rate_hz;
+  if (!header.integrator().empty() && header.integrator() != r.integrator) {
+    r.warnings.push_back("the journal ran integrator " + header.integrator() + ", this replay " +
+                         r.integrator);
+  }
+
+  std::unique_ptr<AtomicFile> csv;
+  std::string rows;
+  if (options.csv) {
+    csv = std::make_unique<AtomicFile>(*options.csv);
+    r.csv = *options.csv;
+    rows += kStateCsvHeader;
+  }
+
+  transport::StateFrame frame;
+  loop::shape_state_frame(driven.world(), frame);
+  const int bodies = driven.world().body_count();
+  // Steps the replay to `tick`; false (and a divergence) if the journal goes back in time, which
+  // the live loop never does between resets.
+  auto advance_to = [&](std::int64_t tick, const char* what) {
+    if (tick < driven.tick()) {
+      r.divergence = ReplayReport::Divergence{
+          tick, 0, 0,
+          std::string("a ") + what + " at tick " + std::to_string(tick) + " comes after tick " +
+              std::to_string(driven.tick()) + " (journal out of order)"};
+      return false;
+    }
+    for (; driven.tick() < tick; ++r.ticks)
+      driven.step_tick();
+    return true;
+  };
+
+  msgs::LogRecord record;
+  transport::AcceptedCommand accepted;
+  while (!r.divergence && !r.gap && reader.next(record)) {
+    switch (record.record_case()) {
+      case msgs::LogRecord::kCommand: {
+        records::from_record(record.command(), accepted);
+        if (!advance_to(accepted.tick, "command")) break;
+        if (accepted.kind == transport::AcceptedKind::kWrench) {
+          ++r.wrenches;
+          const loop::Wrench w = loop::wrench_of(accepted);
+          if (w.body < 0 || w.body >= bodies) {
+            r.divergence = ReplayReport::Divergence{
+                accepted.tick, 0, 0,
+                "a wrench on body " + std::to_string(w.body) + ", which the scene does not have"};
+          } else if (driven.apply(w) == loop::WrenchTable::Upsert::kFull) {
+            r.divergence = ReplayReport::Divergence{
+                accepted.tick, 0, 0,
+                "a wrench rigidd accepted finds the replay's wrench table full (" +
+                    std::to_string(capacity) + " entries)"};
+          }
+        } else {
+          ++r.controls;
+          if (accepted.command == transport::ControlKind::kReset) {
+            driven.reset();
+            ++r.resets;
+          }
+        }
+        break;
+      }
+      case msgs::LogRecord::kStateHash: {
+        const std::int64_t tick = record.state_hash().tick();
+        if (!advance_to(tick, "state hash")) break;
+        loop::fill_state_frame(driven.world(), tick, static_cast<double>(tick) * tick_dt, frame);
+        const std::uint64_t replayed = loop::state_hash(frame);
+        ++r.hashes_compared;
+        if (replayed != record.state_hash().hash()) {
+          r.divergence = ReplayReport::Divergence{tick, record.state_hash().hash(), replayed,
+                                                  "state hash mismatch"};
+          break;
+        }
+        r.last_verified_tick = tick;
+        if (csv) {
+          append_state_rows(driven.world(), rows);
+          r.csv_rows += bodies;
+          if (rows.size() >= (1 << 20)) {
+            csv->write(rows);
+            rows.clear();
+          }
+        }
+        break;
+      }
+      case msgs::LogRecord::kGap:
+        r.gap = ReplayReport::Gap{record.gap().tick(), record.gap().dropped()};
+        break;
+      case msgs::LogRecord::kEnd:
+        r.closed_cleanly = true;
+        break;
+      default:
+        break;  // a record kind this replay has no use for
+    }
+  }
+  if (reader.damage()) {
+    r.damage = "offset " + std::to_string(reader.damage()->offset) + ", " +
+               std::to_string(reader.damage()->bytes) + " bytes: " + reader.damage()->reason;
+  }
+  if (csv) {
+    csv->write(rows);
+    csv->commit();
+  }
+  return r;
+}
+
+void print_replay(std::ostream& out, const ReplayReport& r) {
+  out << "replay of " << r.journal << " (written by " << r.software_version << ")\n"
+      << "scene " << r.scene << ", " << r.rate_hz << " Hz, integrator " << r.integrator << '\n'
+      << r.ticks << " ticks, " << r.wrenches << " wrenches, " << r.controls << " controls ("
+      << r.resets << " resets), " << r.hashes_compared << " state hashes compared\n";
+  if (!r.damage.empty()) {
+    out << "the journal ends in a damaged tail (" << r.damage
+        << "): rigidd stopped without closing it; everything before it was replayed\n";
+  } else if (!r.closed_cleanly && !r.divergence && !r.gap) {
+    out << "the journal has no closing record: rigidd stopped without closing it\n";
+  }
+  if (!r.csv.empty()) out << "csv: " << r.csv << ", " << r.csv_rows << " rows\n";
+  if (r.divergence) {
+    const ReplayReport::Divergence& d = *r.divergence;
+    out << "DIVERGED at tick " << d.tick << ": " << d.what;
+    if (d.journaled != 0 || d.replayed != 0) {
+      out << " (journal " << hex(d.journaled) << ", replay " << hex(d.replayed) << ")";
+    }
+    out << "; last identical state at tick " << r.last_verified_tick << '\n';
+  } else if (r.gap) {
+    out << "INCOMPLETE: rigidd lost " << r.gap->dropped << " journal entries before tick "
+        << r.gap->tick << "; verified up to tick " << r.last_verified_tick << '\n';
+  } else {
+    out << "identical: every journaled state reproduced bit for bit (last at tick "
+        << r.last_verified_tick << ")\n";
+  }
+}
+
+}  // namespace rigid::sim

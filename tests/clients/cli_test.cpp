@@ -1,0 +1,204 @@
+// The tools' command lines, without a network: what each accepts, and that every refusal is one
+// line naming the argument and its value with exit status 2 before any bus is opened.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "attitude_options.hpp"
+#include "ctl/ctl_options.hpp"
+#include "record/record_options.hpp"
+#include "rigidd_process.hpp"
+
+namespace rigid::clients {
+namespace {
+
+using rigidd::testing::Completed;
+using rigidd::testing::count_lines;
+using rigidd::testing::run_program_to_exit;
+
+std::vector<std::string_view> view(const std::vector<std::string>& args) {
+  return {args.begin(), args.end()};
+}
+
+ctl::CtlOptions ctl_parse(const std::vector<std::string>& args) {
+  const auto v = view(args);
+  return ctl::parse_options(v);
+}
+
+TEST(RigidctlOptions, CommandsAndTheirArguments) {
+  const ctl::CtlOptions push =
+      ctl_parse({"push", "brick", "--force", "1,-2,3e-1", "--at=0.5,0,0", "--frame", "body",
+                 "--for", "2.5", "--transport", "lcm", "--prefix", "lab", "--timeout", "0.5"});
+  EXPECT_EQ(push.command, ctl::Command::kPush);
+  EXPECT_EQ(push.body, "brick");
+  EXPECT_EQ(push.force, (transport::Vec3{1, -2, 0.3}));
+  EXPECT_EQ(push.point, (transport::Vec3{0.5, 0, 0}));
+  EXPECT_EQ(push.frame, transport::Frame::kBody);
+  EXPECT_EQ(push.for_seconds, 2.5);
+  EXPECT_EQ(push.bus.bus, transport::Bus::kLcm);
+  EXPECT_EQ(push.bus.prefix, "lab");
+  EXPECT_EQ(push.timeout, std::chrono::milliseconds(500));
+
+  const ctl::CtlOptions echo = ctl_parse({"echo", "a", "b", "--csv", "--count", "3"});
+  EXPECT_EQ(echo.bodies, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(echo.csv);
+  EXPECT_EQ(echo.count, 3);
+  EXPECT_EQ(ctl_parse({"step", "10"}).steps, 10);
+  EXPECT_EQ(ctl_parse({"rate", "0.5"}).rtf, 0.5);
+  EXPECT_EQ(ctl_parse({"--dds-domain", "7", "reset"}).bus.dds_domain, 7u);
+  EXPECT_TRUE(ctl_parse({"--help"}).help);
+}
+
+TEST(RigidctlOptions, RefusalsNameTheArgumentAndItsValue) {
+  const struct {
+    std::vector<std::string> args;
+    std::string message;
+  } cases[] = {
+      {{}, "missing the command"},
+      {{"frobnicate"}, "unknown command 'frobnicate'"},
+      {{"step"}, "step: missing the number of ticks"},
+      {{"step", "0"}, "step: expected an integer >= 1, got '0'"},
+      {{"step", "1", "2"}, "step: unexpected argument '2'"},
+      {{"rate", "0"}, "rate: expected a real-time factor > 0 and <= 1000, got '0'"},
+      {{"rate", "1001"}, "rate: expected a real-time factor > 0 and <= 1000, got '1001'"},
+      {{"push", "box"}, "push: missing --force fx,fy,fz"},
+      {{"push", "box", "--force", "1,2"}, "--force: expected three numbers x,y,z, got '1,2'"},
+      {{"push", "box", "--force", "1,2,nan"}, "--force: expected three numbers x,y,z, got"},
+      {{"push", "box", "--force", "1,2,3", "--frame", "local"},
+       "--frame: expected body or world, got 'local'"},
+      {{"push", "box", "--force", "1,2,3", "--for", "-1"},
+       "--for: expected a duration in seconds >= 0, got '-1'"},
+      {{"pause", "--csv"}, "unknown option '--csv' for pause"},
+      {{"pause", "--transport", "zmq"}, "--transport: expected dds or lcm, got 'zmq'"},
+      {{"pause", "--prefix", "a-b"}, "--prefix: expected letters, digits and '_' only, got 'a-b'"},
+      {{"pause", "--dds-domain", "300"}, "--dds-domain: expected an integer 0 .. 232, got '300'"},
+      {{"pause", "--lcm-url", "x"}, "--lcm-url: expected an LCM URL"},
+      {{"pause", "--timeout", "0"}, "--timeout: expected a time in seconds > 0, got '0'"},
+      {{"pause", "--timeout"}, "--timeout needs a value"},
+      {{"echo", "--rate", "fast"}, "--rate: expected a rate in Hz > 0, got 'fast'"},
+  };
+  for (const auto& c : cases) {
+    try {
+      ctl_parse(c.args);
+      ADD_FAILURE() << "accepted: " << (c.args.empty() ? "" : c.args[0]);
+    } catch (const UsageError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(c.message, 0), 0u) << e.what();
+    }
+  }
+}
+
+TEST(RigidRecordOptions, CommandsAndRefusals) {
+  auto parse = [](const std::vector<std::string>& args) {
+    const auto v = view(args);
+    return record::parse_options(v);
+  };
+  const record::RecordOptions r =
+      parse({"record", "out.rlog", "--duration", "2", "--force", "--transport", "lcm"});
+  EXPECT_EQ(r.command, record::Command::kRecord);
+  EXPECT_EQ(r.file, "out.rlog");
+  EXPECT_EQ(r.duration, 2.0);
+  EXPECT_TRUE(r.force);
+  const record::RecordOptions e = parse({"export", "a.log", "--csv", "a.csv", "--prefix", "p"});
+  EXPECT_EQ(e.csv, "a.csv");
+  EXPECT_TRUE(e.bus_prefix_given);
+  EXPECT_EQ(e.bus.prefix, "p");
+  EXPECT_EQ(parse({"play", "a.rlog", "--speed", "4"}).speed, 4.0);
+  EXPECT_TRUE(parse({"record", "-f", "o.rlog"}).force);
+  const struct {
+    std::vector<std::string> args;
+    std::string message;
+  } cases[] = {
+      {{"record"}, "record: missing the output file"},
+      {{"export", "a.rlog"}, "export: missing --csv OUT"},
+      {{"info", "a", "b"}, "info: unexpected argument 'b'"},
+      {{"info", "a", "--duration", "1"}, "unknown option '--duration' for info"},
+      {{"play", "a", "--speed", "0"}, "--speed: expected a speed factor > 0, got '0'"},
+      {{"record", "a", "--duration", "x"}, "--duration: expected a duration in seconds > 0"},
+      {{"dump", "a"}, "unknown command 'dump'"},
+  };
+  for (const auto& c : cases) {
+    try {
+      parse(c.args);
+      ADD_FAILURE() << "accepted: " << c.args[0];
+    } catch (const UsageError& err) {
+      EXPECT_EQ(std::string(err.what()).rfind(c.message, 0), 0u) << err.what();
+    }
+  }
+}
+
+TEST(RigidAttitudeOptions, ValuesAndRefusals) {
+  const std::vector<std::string> args{"craft", "--target-rpy", "10,0,-5", "--max-thrust",
+                                      "2",     "--duration",   "3",       "--exit-when-settled"};
+  const auto v = view(args);
+  const controllers::AttitudeOptions o = controllers::parse_options(v);
+  EXPECT_EQ(o.body, "craft");
+  EXPECT_EQ(o.target_rpy_deg, (transport::Vec3{10, 0, -5}));
+  EXPECT_EQ(o.max_thrust, 2.0);
+  EXPECT_EQ(o.duration, 3.0);
+  EXPECT_TRUE(o.exit_when_settled);
+  const std::vector<std::string> bad{"--max-thrust", "-1"};
+  const auto bv = view(bad);
+  EXPECT_THROW(controllers::parse_options(bv), UsageError);
+}
+
+// As processes: one line on stderr, exit status 2, nothing on stdout; --help exits 0.
+TEST(ToolsAsProcesses, BadCommandLinesExit2WithOneLineAndHelpExits0) {
+  const struct {
+    const char* program;
+    std::vector<std::string> args;
+    std::string line;
+  } cases[] = {
+      {RIGIDCTL_EXE, {"step", "-3"}, "rigidctl: step: expected an integer >= 1, got '-3'"},
+      {RIGIDCTL_EXE, {"push", "b", "--force", "1"}, "rigidctl: --force: expected three numbers"},
+      {RIGID_RECORD_EXE, {"export", "x"}, "rigid-record: export: missing --csv OUT"},
+      {RIGID_ATTITUDE_EXE, {"--rate", "0"}, "rigid-attitude: --rate: expected a rate in Hz > 0"},
+      {RIGID_SIM_EXE,
+       {"--replay", "j", "--dt", "1e-3"},
+       "rigid-sim: --dt cannot be combined with --replay"},
+  };
+  for (const auto& c : cases) {
+    const Completed r = run_program_to_exit(c.program, c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.program << ' ' << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind(c.line, 0), 0u) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  for (const char* program : {RIGIDCTL_EXE, RIGID_RECORD_EXE, RIGID_ATTITUDE_EXE}) {
+    const Completed r = run_program_to_exit(program, {"--help"});
+    EXPECT_EQ(r.exit_code, 0) << program;
+    EXPECT_NE(r.out.find("Usage:"), std::string::npos) << program;
+    EXPECT_NE(r.out.find("Exit status"), std::string::npos) << program;
+  }
+}
+
+TEST(ToolsAsProcesses, AMissingOrForeignFileIsOneLineAndExit1) {
+  const Completed missing = run_program_to_exit(RIGID_RECORD_EXE, {"info", "/nonexistent.rlog"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_EQ(missing.err,
+            "rigid-record: /nonexistent.rlog: cannot open: No such file or directory\n");
+  const Completed foreign = run_program_to_exit(RIGID_SIM_EXE, {"--replay", RIGIDCTL_EXE});
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_NE(foreign.err.find("not a rigid log file"), std::string::npos) << foreign.err;
+}
+
+TEST(ToolsAsProcesses, RigiddRefusesToOverwriteAJournalWithExit1) {
+  const std::string path = std::filesystem::temp_directory_path() /
+                           ("rigid_cli_test_journal_" + std::to_string(::getpid()));
+  std::ofstream(path) << "an earlier incident";
+  const Completed r = rigidd::testing::run_to_exit(
+      {"--scene", std::string(RIGIDD_TEST_SCENES) + "/probe.pbtxt", "--journal", path});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err, "rigidd: " + path + ": exists (remove it or choose another name)\n");
+  std::ifstream in(path);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "an earlier incident");
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace rigid::clients
