@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace rigid::bench {
 
@@ -128,11 +130,38 @@ std::vector<double> sweep_steps(bool quick) {
           1.0 / 1000, 1.0 / 2000, 1.0 / 5000, 1.0 / 10000};
 }
 
+std::vector<double> our_sweep_steps(bool quick) {
+  std::vector<double> steps{1.0 / 10, 1.0 / 30};
+  if (!quick) steps.insert(steps.begin() + 1, 1.0 / 20);
+  for (double dt : sweep_steps(quick))
+    steps.push_back(dt);
+  return steps;
+}
+
 Vec3 gravity_of(const Case& c) {
   return c.body.use_gravity ? Vec3(0, 0, -9.81) : Vec3::Zero();
 }
 
-Reference compute_reference(const Case& c, bool quick) {
+physics::WorldSpec world_spec(const Case& c, const std::string& integrator, double dt, int copies) {
+  physics::WorldSpec ws;
+  ws.dt = dt;
+  ws.integrator = integrator;
+  ws.g_W = gravity_of(c);
+  for (int k = 0; k < copies; ++k) {
+    BodySpec b = c.body;
+    b.name = "b" + std::to_string(k);
+    ws.bodies.push_back(b);
+    for (LoadSpec l : c.loads) {
+      l.body = k;
+      ws.loads.push_back(l);
+    }
+  }
+  return ws;
+}
+
+namespace {
+
+Reference compute_reference_now(const Case& c, bool quick) {
   Reference r;
   r.state.v = to_ld(c.body.v_WBo);
   r.state.w = to_ld(c.body.w_WB);
@@ -155,6 +184,51 @@ Reference compute_reference(const Case& c, bool quick) {
     ref::ref_run(c.oracle, r.state, c.duration, n);
     r.name = "long-double RK4 at " + std::to_string(n) + " steps";
   }
+  return r;
+}
+
+// A cached reference: "key|x v q w (13 long doubles)|name", one a line.
+std::string cache_key(const Case& c, bool quick) {
+  return c.name + "/" + c.description + "/" + (quick ? "quick" : "full");
+}
+
+bool read_cached(const std::string& path, const std::string& key, Reference& r) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const auto a = line.find('|'), b = line.rfind('|');
+    if (a == std::string::npos || b == a || line.substr(0, a) != key) continue;
+    std::istringstream values(line.substr(a + 1, b - a - 1));
+    long double v[13];
+    for (long double& x : v)
+      values >> x;
+    if (!values) continue;
+    r.state.x = ref::V3(v[0], v[1], v[2]);
+    r.state.v = ref::V3(v[3], v[4], v[5]);
+    r.state.q = ref::Q4(v[6], v[7], v[8], v[9]);
+    r.state.w = ref::V3(v[10], v[11], v[12]);
+    r.name = line.substr(b + 1);
+    return true;
+  }
+  return false;
+}
+
+void write_cached(const std::string& path, const std::string& key, const Reference& r) {
+  std::ofstream out(path, std::ios::app);
+  out << key << '|' << std::setprecision(21);
+  const ref::RefState& s = r.state;
+  for (long double x : {s.x.x(), s.x.y(), s.x.z(), s.v.x(), s.v.y(), s.v.z(), s.q.w(), s.q.x(),
+                        s.q.y(), s.q.z(), s.w.x(), s.w.y(), s.w.z()})
+    out << x << ' ';
+  out << '|' << r.name << '\n';
+}
+
+}  // namespace
+
+Reference compute_reference(const Case& c, bool quick, const std::string& cache) {
+  Reference r;
+  if (!cache.empty() && read_cached(cache, cache_key(c, quick), r)) return r;
+  r = compute_reference_now(c, quick);
+  if (!cache.empty()) write_cached(cache, cache_key(c, quick), r);
   return r;
 }
 
@@ -221,6 +295,20 @@ Row Scorer::result(const BodyState& s) const {
   return row;
 }
 
+bool blown_up(const BodyState& s, const BodyState& prev, double dt) {
+  constexpr double kBound = 1e10;
+  const auto bad = [](const Vec3& v) { return !(v.cwiseAbs().maxCoeff() <= kBound); };
+  return !s.p_WBo.allFinite() || !s.v_WBo.allFinite() || !s.w_WB.allFinite() || bad(s.p_WBo) ||
+         bad(s.v_WBo) || bad(s.w_WB) || bad((s.v_WBo - prev.v_WBo) / dt) ||
+         bad((s.w_WB - prev.w_WB) / dt);
+}
+
+BodyState nan_state() {
+  BodyState s;
+  s.p_WBo.setConstant(NAN);
+  return s;
+}
+
 double thread_cpu_ns() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
@@ -241,7 +329,8 @@ void write_csv_row(std::ostream& os, const Case& c, const std::string& integrato
 }
 
 // What the figures must say about where they come from: machine, compiler, flags, date.
-void write_meta(const std::string& path, bool quick, const std::string& extra) {
+void write_meta(const std::string& path, bool quick, int copies, int repeats,
+                const std::string& extra) {
   std::ofstream m(path);
   std::string cpu = "unknown";
   std::ifstream info("/proc/cpuinfo");
@@ -262,10 +351,12 @@ void write_meta(const std::string& path, bool quick, const std::string& extra) {
     << "compiler: g++ " << __VERSION__ << "\n"
     << "flags: " << RIGID_CXX_FLAGS << "\n"
     << "date: " << date << "\n"
-    << "mode: " << (quick ? "quick" : "full") << "\n"
-    << "bodies per cost run: " << kCopies << ", cost = thread CPU time, median of "
-    << (quick ? 1 : 3) << "\n"
-    << extra;
+    << "mode: " << (quick ? "quick" : "full") << "\n";
+  if (copies > 0) {
+    m << "bodies per cost run: " << copies << ", cost = thread CPU time, median of " << repeats
+      << "\n";
+  }
+  m << extra;
 }
 
 }  // namespace rigid::bench

@@ -21,8 +21,10 @@ using physics::Quat;
 using physics::Vec3;
 namespace ref = rigid::test;
 
-// Bodies stepped together when timing (cost = CPU time / (steps * kCopies)).
+// Bodies stepped together when timing (cost = CPU time / (steps * copies)): 32 in a full run,
+// kQuickCopies with --quick, where fewer copies make the slow peers' sweeps affordable.
 inline constexpr int kCopies = 32;
+inline constexpr int kQuickCopies = 4;
 
 // One hard case: a single body, its loads, and the oracle.
 struct Case {
@@ -41,14 +43,22 @@ struct Case {
 std::vector<Case> hard_cases();
 // The steps of the sweep: 1/60 s to 1/10000 s (four of them with quick).
 std::vector<double> sweep_steps(bool quick);
+// Ours are swept from 1/10 s: a step of ours costs 3-60x less than a peer's, so that our curves
+// reach as far down the cost axis as the peers' cheapest runs (1/60 s), where the report checks
+// that our curves lie below theirs.
+std::vector<double> our_sweep_steps(bool quick);
 // The gravity a case's world uses.
 Vec3 gravity_of(const Case& c);
+// Our world for a case: `copies` identical copies of its body and loads, stepped by `integrator`.
+physics::WorldSpec world_spec(const Case& c, const std::string& integrator, double dt, int copies);
 
 struct Reference {
   ref::RefState state;  // body 0 at the end of the case
   std::string name;     // how it was obtained, for the report
 };
-Reference compute_reference(const Case& c, bool quick);
+// With a cache file, a reference already in it (same case, description and mode) is read back
+// instead of computed, and a computed one is added: the drivers of one report run share them.
+Reference compute_reference(const Case& c, bool quick, const std::string& cache = "");
 
 // One run's accuracy figures (NaN where a figure does not apply to the case).
 struct Row {
@@ -77,13 +87,25 @@ class Scorer {
   bool started_ = false, failed_ = false;
 };
 
+// Whether a run has blown up at this step, by one rule for every engine, ours included: a
+// non-finite state, or MuJoCo's own bound on a sane value (mjMAXVAL = 1e10) exceeded by a position,
+// a velocity or an acceleration (here the change of velocity over the step just taken, per dt).
+// MuJoCo resets a model past that bound; without the common rule an explicit drag at c dt / m
+// slightly above 2 (stiff drag at 1/240 s) would read as a blow-up in MuJoCo but as a finite,
+// meaningless error growing ~|1 - c dt / m|^n in Bullet, ODE and ours.
+bool blown_up(const BodyState& s, const BodyState& prev, double dt);
+// The state a blown-up run reports from then on: NaN, which the Scorer counts as a failure.
+BodyState nan_state();
+
 // CPU time of the calling thread (ns): what the cost columns measure.
 double thread_cpu_ns();
 // The CSV the plot script reads.
 void write_csv_header(std::ostream& os);
 void write_csv_row(std::ostream& os, const Case& c, const std::string& integrator, double dt,
                    const Row& row, double ns_per_body_step, const std::string& reference);
-// Machine, compiler, flags, date: what every figure must carry.
-void write_meta(const std::string& path, bool quick, const std::string& extra = "");
+// Machine, compiler, flags, date: what every figure must carry; and how the costs were taken
+// (copies = 0: the caller says it in `extra`).
+void write_meta(const std::string& path, bool quick, int copies, int repeats,
+                const std::string& extra = "");
 
 }  // namespace rigid::bench

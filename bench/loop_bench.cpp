@@ -2,22 +2,36 @@
 // the whole set and compares with step_bench).
 //
 //   loop_bench realtime [--bodies 1000] [--duration 60] [--push-every-ms 20] [--rigidd PATH]
-//     rigidd in realtime mode at 1 kHz, a state every 10 ticks (100 Hz) on both buses, a
-//     subscriber on each bus, and a controller on each bus pushing its own body with a one-tick
-//     wrench every push-every-ms plus a random fraction of a millisecond. Reports rigidd's overruns
-//     and tick lateness p50/p99/max over the whole run (its closing log line), rigidd's own
-//     measure of command arrival to state sent per bus, and per bus the client's wrench-to-state
-//     latency p50/p99/max: from the controller's publish call to the arrival of the first state in
-//     which the pushed body's velocity changed (so it includes the wrench's own trip to the server
-//     and the state's trip back).
+//     rigidd in realtime mode at 1 kHz, a state every 10 ticks (100 Hz) on the buses of
+//     --transport (default both), a subscriber on each bus, and a controller on each bus pushing
+//     its own body with a one-tick wrench every push-every-ms plus a random fraction of a
+//     millisecond. Reports rigidd's overruns and tick lateness p50/p99/max over the whole run
+//     (its closing log line), rigidd's own measure of command arrival to state sent per bus, and
+//     per bus the client's wrench-to-state latency p50/p99/max: from the controller's publish call
+//     to the arrival of the first state in which the pushed body's velocity changed (so it
+//     includes the wrench's own trip to the server and the state's trip back).
 //   loop_bench timer [--duration 60]
 //     the machine's own timer, without rigidd: a SCHED_FIFO thread sleeping to 1 ms deadlines,
 //     without and with a 100 us final spin (rigidd's --spin-us default); what tick lateness and
 //     overruns cannot beat here.
 //   loop_bench fast [--bodies 10000] [--duration 20] [--no-subscribers] [--rigidd PATH]
 //     rigidd in fast mode (ticks back to back), a state every 10 ticks (100 Hz of simulated time)
-//     on both buses; reports the cost per body-step of the whole loop: wall time / (ticks *
-//     bodies).
+//     on the buses; reports the cost per body-step of the whole loop: wall time / (ticks *
+//     bodies), and the states each subscriber received per second. With --publish-every 1 rigidd
+//     offers a state every tick, far more than any bus carries: the states received per second are
+//     then what the bus sustains from rigidd to one subscriber (rigidd skips what its publisher
+//     cannot send; the subscriber misses what the bus drops).
+//
+// Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
+// --publish-every K (a state every K ticks, default 10), --point-masses (weightless point masses
+// instead of the racket: the cheapest physics, so that the buses limit the state rate), --csv FILE
+// (appends one row per bus, for bench/plot_loop.py), --histogram FILE (appends the tick lateness
+// histogram, see below).
+//
+// Tick lateness histogram: rigidd logs its whole histogram when it stops (a line
+// "rigidd: lateness_histogram_ns LOW:COUNT ..."), and that is written; a rigidd that does not
+// (an older build) leaves the histogram of the per-second maxima from its Stats instead (what the
+// worst tick of each second looked like). The CSV's `source` column says which.
 //
 // The bodies are step_bench's "racket" case (I = diag(1, 2, 3), w0 = (1e-3 + 1e-6 i, 5, 1e-3), no
 // gravity, dt = 1 ms, the default integrator), so the fast figure compares directly with
@@ -81,14 +95,23 @@ struct Options {
   double duration = 0;
   int push_every_ms = 20;
   bool subscribers = true;
+  std::vector<Bus> buses{Bus::kDds, Bus::kLcm};
+  std::string transport = "dds,lcm";
+  int publish_every = 10;
+  bool point_masses = false;
+  std::string csv, histogram;
   std::string rigidd = RIGIDD_EXE;
   std::vector<std::string> rigidd_args;  // --rigidd-arg, passed on
 };
 
 Options parse(int argc, char** argv) {
   Options o;
-  if (argc < 2) throw std::invalid_argument("usage: loop_bench realtime|fast [options]");
+  if (argc < 2) throw std::invalid_argument("usage: loop_bench realtime|fast|timer [options]");
   o.mode = argv[1];
+  if (o.mode == "--help" || o.mode == "-h") {
+    o.mode = "help";
+    return o;
+  }
   if (o.mode != "realtime" && o.mode != "fast" && o.mode != "timer") {
     throw std::invalid_argument("expected realtime, fast or timer, got '" + o.mode + "'");
   }
@@ -108,6 +131,22 @@ Options parse(int argc, char** argv) {
       o.push_every_ms = std::stoi(value());
     } else if (a == "--no-subscribers") {
       o.subscribers = false;
+    } else if (a == "--transport") {
+      o.transport = value();
+      o.buses.clear();
+      if (o.transport == "dds" || o.transport == "dds,lcm" || o.transport == "lcm,dds")
+        o.buses.push_back(Bus::kDds);
+      if (o.transport == "lcm" || o.transport == "dds,lcm" || o.transport == "lcm,dds")
+        o.buses.push_back(Bus::kLcm);
+      if (o.buses.empty()) throw std::invalid_argument("--transport: dds, lcm or dds,lcm");
+    } else if (a == "--publish-every") {
+      o.publish_every = std::stoi(value());
+    } else if (a == "--point-masses") {
+      o.point_masses = true;
+    } else if (a == "--csv") {
+      o.csv = value();
+    } else if (a == "--histogram") {
+      o.histogram = value();
     } else if (a == "--rigidd") {
       o.rigidd = value();
     } else if (a == "--rigidd-arg") {
@@ -117,20 +156,30 @@ Options parse(int argc, char** argv) {
     }
   }
   if (o.bodies < 2 || o.duration <= 0) throw std::invalid_argument("bad --bodies or --duration");
+  if (o.publish_every < 1) throw std::invalid_argument("bad --publish-every");
   return o;
 }
 
 // step_bench's racket case as a scene file.
-std::string write_scene(const fs::path& dir, int bodies) {
+// With point_masses, weightless point masses instead (3-10 ns per body-step rather than ~50): the
+// physics then leaves the buses as the limit of the state rate.
+std::string write_scene(const fs::path& dir, int bodies, int publish_every, bool point_masses) {
   const fs::path path = dir / "bench.pbtxt";
   std::ofstream out(path);
-  out << "world { rate_hz: 1000 substeps: 1 publish_every: 10 gravity { z: 0 } }\n";
+  out << "world { rate_hz: 1000 substeps: 1 publish_every: " << publish_every
+      << " gravity { z: 0 } }\n";
   char line[256];
   for (int i = 0; i < bodies; ++i) {
-    std::snprintf(line, sizeof line,
-                  "body { name: \"b%d\" mass: 1 inertia { x: 1 y: 2 z: 3 } use_gravity: false "
-                  "angular_velocity { x: %.17g y: 5 z: 0.001 } }\n",
-                  i, 1e-3 + 1e-6 * i);
+    if (point_masses) {
+      std::snprintf(line, sizeof line,
+                    "body { name: \"b%d\" mass: 1 use_gravity: false velocity { x: %.17g } }\n", i,
+                    1e-3 + 1e-6 * i);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "body { name: \"b%d\" mass: 1 inertia { x: 1 y: 2 z: 3 } use_gravity: false "
+                    "angular_velocity { x: %.17g y: 5 z: 0.001 } }\n",
+                    i, 1e-3 + 1e-6 * i);
+    }
     out << line;
   }
   return path.string();
@@ -333,6 +382,57 @@ class Probe final : public rigid::transport::Receiver {
   std::unique_ptr<rigid::transport::Transport> transport_;
 };
 
+// Appends rows to a CSV, writing its header first when the file is new or empty.
+void append_csv(const std::string& path, const std::string& header,
+                const std::vector<std::string>& rows) {
+  if (path.empty()) return;
+  const bool fresh = !fs::exists(path) || fs::file_size(path) == 0;
+  std::ofstream out(path, std::ios::app);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  if (fresh) out << header << "\n";
+  for (const auto& r : rows)
+    out << r << "\n";
+}
+
+std::string fmt(const char* format, auto... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, format, args...);
+  return buf;
+}
+
+constexpr const char* kCsvHeader =
+    "run,mode,bodies,transport,publish_every,duration_s,spin_us,ticks,overruns,lateness_p50_us,"
+    "lateness_p99_us,lateness_max_us,step_cost_p50_us,step_cost_p99_us,step_cost_max_us,bus,"
+    "latency_p50_us,latency_p99_us,latency_max_us,latency_n,unseen,server_leg_p50_us,"
+    "wire_leg_p50_us,command_to_state_p50_us,states_received_per_s,states_sent_per_s,"
+    "states_skipped_per_s,state_bytes,ns_per_body_step";
+constexpr const char* kHistogramHeader =
+    "run,mode,bodies,transport,spin_us,source,low_us,high_us,count";
+
+// A histogram of samples (us) as CSV rows, in the buckets of rigidd's own (loop/histogram.hpp):
+// exact to the nanosecond below 128 ns, 64 per factor of 2 above, so that the report bins the
+// timer's samples and rigidd's histogram alike.
+std::vector<std::string> histogram_rows(const std::string& key, const std::string& source,
+                                        const std::vector<double>& us) {
+  std::map<std::pair<double, double>, long> bins;
+  for (double v : us) {
+    const double ns = std::max(0.0, std::round(v * 1000));
+    double lo = ns, hi = ns + 1;
+    if (ns >= 128) {
+      const double octave = std::exp2(std::floor(std::log2(ns)));
+      const double sub = std::floor((ns / octave - 1) * 64);
+      lo = octave * (1 + sub / 64);
+      hi = octave * (1 + (sub + 1) / 64);
+    }
+    ++bins[{lo, hi}];
+  }
+  std::vector<std::string> rows;
+  for (const auto& [range, n] : bins)
+    rows.push_back(fmt("%s,%s,%.6g,%.6g,%ld", key.c_str(), source.c_str(), range.first * 1e-3,
+                       range.second * 1e-3, n));
+  return rows;
+}
+
 // The platform's own timer: a bare thread at rigidd's loop priority (SCHED_FIFO 10, timer slack
 // 1 ns) sleeping to absolute 1 ms deadlines, optionally spinning the last spin_us. What rigidd's
 // tick lateness cannot beat on this machine.
@@ -363,7 +463,49 @@ int run_timer(const Options& o, std::int64_t spin_us) {
       "than a tick: %d of %zu\n",
       static_cast<long long>(spin_us), fifo ? "" : " (no SCHED_FIFO)", p.p50, p.p99, p.max,
       over_1ms, p.n);
+  append_csv(
+      o.csv, kCsvHeader,
+      {fmt("%d,timer,0,none,0,%.1f,%lld,%zu,%d,%.2f,%.2f,%.2f,,,,,,,,,,,,,,,,,", ::getpid(),
+           o.duration, static_cast<long long>(spin_us), p.n, over_1ms, p.p50, p.p99, p.max)});
+  // Every tick, and the worst of each second (to set beside rigidd's per-second maxima).
+  std::vector<double> second_max;
+  for (std::size_t k = 0; k < late.size(); k += 1000) {
+    const auto from = late.begin() + static_cast<std::ptrdiff_t>(k);
+    second_max.push_back(*std::max_element(
+        from, from + static_cast<std::ptrdiff_t>(std::min<std::size_t>(1000, late.size() - k))));
+  }
+  const std::string key = fmt("%d,timer,0,none,%lld", ::getpid(), static_cast<long long>(spin_us));
+  append_csv(o.histogram, kHistogramHeader, histogram_rows(key, "timer_samples", late));
+  append_csv(o.histogram, kHistogramHeader,
+             histogram_rows(key, "timer_per_second_max", second_max));
   return 0;
+}
+
+// rigidd's whole lateness histogram, when it logs one ("rigidd: lateness_histogram_ns" followed
+// by LOW:COUNT pairs, LOW the bucket's lower bound in ns): rows of (low_us, high_us, count), the
+// high bound being the next bucket's low.
+std::vector<std::string> rigidd_histogram(const std::string& log, const std::string& key) {
+  const std::string tag = "rigidd: lateness_histogram_ns";
+  const auto at = log.rfind(tag);
+  if (at == std::string::npos) return {};
+  std::istringstream line(log.substr(at + tag.size(), log.find('\n', at) - at - tag.size()));
+  std::vector<std::pair<double, long>> buckets;
+  for (std::string token; line >> token;) {
+    const auto colon = token.find(':');
+    if (colon == std::string::npos) continue;
+    buckets.emplace_back(std::stod(token.substr(0, colon)) * 1e-3,
+                         std::stol(token.substr(colon + 1)));
+  }
+  std::vector<std::string> rows;
+  for (std::size_t i = 0; i < buckets.size(); ++i) {
+    const double lo = buckets[i].first;
+    // Log-linear buckets: without the next one's bound, the width is that of this octave's.
+    const double hi = i + 1 < buckets.size() ? std::min(buckets[i + 1].first, lo * 1.016 + 1e-3)
+                                             : lo * 1.016 + 1e-3;
+    rows.push_back(
+        fmt("%s,rigidd_histogram,%.4g,%.4g,%ld", key.c_str(), lo, hi, buckets[i].second));
+  }
+  return rows;
 }
 
 int run(const Options& o) {
@@ -373,24 +515,30 @@ int run(const Options& o) {
   }
   const fs::path dir = fs::temp_directory_path() / ("loop_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string scene = write_scene(dir, o.bodies);
+  const std::string scene = write_scene(dir, o.bodies, o.publish_every, o.point_masses);
   const std::string prefix = "bench" + std::to_string(::getpid());
-  std::printf(
-      "loop_bench %s: %d bodies (step_bench's racket case), 1 kHz, a state every 10 ticks "
-      "on dds and lcm, %.0f s\n",
-      o.mode.c_str(), o.bodies, o.duration);
+  std::printf("loop_bench %s: %d bodies (%s), 1 kHz, a state every %d ticks on %s, %.0f s\n",
+              o.mode.c_str(), o.bodies,
+              o.point_masses ? "point masses" : "step_bench's racket case", o.publish_every,
+              o.transport.c_str(), o.duration);
 
-  // Subscribers first, so rigidd's first states find them.
-  Probe dds(Bus::kDds, prefix, 0, o.subscribers);
-  Probe lcm(Bus::kLcm, prefix, 1, o.subscribers);
-  std::vector<std::string> args{"--scene", scene, "--mode", o.mode, "--prefix", prefix};
+  // Subscribers first, so rigidd's first states find them. Body 0 is the DDS controller's, body 1
+  // the LCM one's.
+  std::vector<std::unique_ptr<Probe>> probes;
+  for (Bus bus : o.buses)
+    probes.push_back(std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers));
+  std::vector<std::string> args{"--scene",  scene,  "--mode",      o.mode,
+                                "--prefix", prefix, "--transport", o.transport};
   args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
   Daemon daemon(o.rigidd, args, dir / "rigidd.err");
   const auto start = std::chrono::steady_clock::now();
   if (o.subscribers) {
-    while (!(dds.ready() && lcm.ready())) {
+    const auto all_ready = [&] {
+      return std::all_of(probes.begin(), probes.end(), [](auto& p) { return p->ready(); });
+    };
+    while (!all_ready()) {
       if (std::chrono::steady_clock::now() - start > 30s) {
-        std::fprintf(stderr, "no state from rigidd on both buses within 30 s:\n%s",
+        std::fprintf(stderr, "no state from rigidd on every bus within 30 s:\n%s",
                      daemon.stderr_text().c_str());
         return 1;
       }
@@ -399,33 +547,34 @@ int run(const Options& o) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + std::chrono::duration<double>(o.duration);
-  const std::int64_t dds_states0 = dds.states(), lcm_states0 = lcm.states();
+  std::vector<std::int64_t> states0;
+  for (auto& p : probes)
+    states0.push_back(p->states());
   if (o.mode == "realtime") {
     // One controller per bus, each pushing every push-every-ms plus a random fraction of a tick:
     // a fixed period that is a whole number of ticks would always land at the same point of
     // rigidd's tick, and measure one arrival phase instead of all of them.
-    std::mt19937 random(12345);
-    std::uniform_int_distribution<int> phase_us(0, 999);
-    std::thread lcm_controller([&] {
-      std::mt19937 r(678);
-      for (auto next = t0; next < end; next += std::chrono::milliseconds(o.push_every_ms) +
-                                               std::chrono::microseconds(phase_us(r))) {
-        std::this_thread::sleep_until(next);
-        lcm.push();
-      }
-    });
-    for (auto next = t0; next < end; next += std::chrono::milliseconds(o.push_every_ms) +
-                                             std::chrono::microseconds(phase_us(random))) {
-      std::this_thread::sleep_until(next);
-      dds.push();
+    std::vector<std::thread> controllers;
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+      controllers.emplace_back([&, k] {
+        std::mt19937 r(12345 + 666 * static_cast<unsigned>(k));
+        std::uniform_int_distribution<int> phase_us(0, 999);
+        for (auto next = t0; next < end; next += std::chrono::milliseconds(o.push_every_ms) +
+                                                 std::chrono::microseconds(phase_us(r))) {
+          std::this_thread::sleep_until(next);
+          probes[k]->push();
+        }
+      });
     }
-    lcm_controller.join();
+    for (auto& c : controllers)
+      c.join();
   } else {
     std::this_thread::sleep_until(end);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::int64_t dds_states = dds.states() - dds_states0,
-                     lcm_states = lcm.states() - lcm_states0;
+  std::vector<std::int64_t> received;
+  for (std::size_t k = 0; k < probes.size(); ++k)
+    received.push_back(probes[k]->states() - states0[k]);
   std::this_thread::sleep_for(50ms);
   const int status = daemon.stop();
   const std::string log = daemon.stderr_text();
@@ -434,52 +583,49 @@ int run(const Options& o) {
     std::fprintf(stderr, "rigidd did not stop cleanly (status %d):\n%s", status, log.c_str());
     return 1;
   }
+  const auto fig = [&](const std::string& key) { return f.count(key) ? f.at(key) : NAN; };
   std::printf("  %s", log.substr(log.rfind("rigidd: stopped: ")).c_str());
-  std::printf("  states received over %.1f s: dds %lld (%.1f/s), lcm %lld (%.1f/s)\n", wall,
-              static_cast<long long>(dds_states), static_cast<double>(dds_states) / wall,
-              static_cast<long long>(lcm_states), static_cast<double>(lcm_states) / wall);
+  std::printf("  states received over %.1f s:", wall);
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    std::printf(" %s %lld (%.1f/s)", std::string(to_string(o.buses[k])).c_str(),
+                static_cast<long long>(received[k]), static_cast<double>(received[k]) / wall);
+  }
+  std::printf("\n");
+  const double loop_wall = fig("wall_s");
+  const double ns_per_body_step = loop_wall * 1e9 / (fig("ticks") * o.bodies);
+  // "both" rather than "dds,lcm" in the CSV.
+  const std::string transport = o.buses.size() == 2 ? "both" : o.transport;
+  const std::string key =
+      fmt("%d,%s,%d,%s", ::getpid(), o.mode.c_str(), o.bodies, transport.c_str());
+  std::vector<std::string> rows;
   if (o.mode == "realtime") {
     // The seconds in which ticks were skipped, from the Stats rigidd published each second.
     std::int64_t overruns_before = 0;
-    for (const auto& st : dds.stats()) {
+    std::vector<double> second_max;
+    const auto stats = probes.front()->stats();
+    for (const auto& st : stats) {
       if (st.overruns > overruns_before) {
         std::printf("  second ending at tick %lld: %lld tick(s) skipped, lateness max %.1f us\n",
                     static_cast<long long>(st.tick),
                     static_cast<long long>(st.overruns - overruns_before), st.lateness_max_us);
       }
       overruns_before = st.overruns;
+      second_max.push_back(st.lateness_max_us);
     }
-    std::printf("RESULT overruns %.0f\n", f.at("overruns"));
-    std::printf("RESULT tick_lateness_us p50 %.1f p99 %.1f max %.1f\n", f.at("lateness_us.p50"),
-                f.at("lateness_us.p99"), f.at("lateness_us.max"));
-    std::printf("RESULT step_cost_us p50 %.1f p99 %.1f max %.1f\n", f.at("step_cost_us.p50"),
-                f.at("step_cost_us.p99"), f.at("step_cost_us.max"));
-    for (Probe* p : {&dds, &lcm}) {
-      const Percentiles l = percentiles(p->latencies());
-      std::printf("RESULT wrench_to_state_us %s p50 %.1f p99 %.1f max %.1f (n %zu, unseen %d)\n",
-                  p == &dds ? "dds" : "lcm", l.p50, l.p99, l.max, l.n, p->lost());
-      const std::string bus = p == &dds ? "dds" : "lcm";
-      if (f.count(bus + "_command_to_state_us.p50")) {
-        std::printf(
-            "RESULT command_arrival_to_state_sent_us %s p50 %.1f p99 %.1f max %.1f "
-            "(rigidd's own measure)\n",
-            bus.c_str(), f.at(bus + "_command_to_state_us.p50"),
-            f.at(bus + "_command_to_state_us.p99"), f.at(bus + "_command_to_state_us.max"));
-      }
-      const Percentiles a = percentiles(p->server_legs()), b = percentiles(p->wire_legs());
-      std::printf(
-          "  of which: wrench sent -> state published p50 %.1f p99 %.1f max %.1f; "
-          "published -> received p50 %.1f p99 %.1f max %.1f\n",
-          a.p50, a.p99, a.max, b.p50, b.p99, b.max);
-    }
+    std::printf("RESULT overruns %.0f\n", fig("overruns"));
+    std::printf("RESULT tick_lateness_us p50 %.1f p99 %.1f max %.1f\n", fig("lateness_us.p50"),
+                fig("lateness_us.p99"), fig("lateness_us.max"));
+    std::printf("RESULT step_cost_us p50 %.1f p99 %.1f max %.1f\n", fig("step_cost_us.p50"),
+                fig("step_cost_us.p99"), fig("step_cost_us.max"));
+    std::vector<std::string> hist = rigidd_histogram(log, key + ",100");
+    if (hist.empty()) hist = histogram_rows(key + ",100", "per_second_max", second_max);
+    append_csv(o.histogram, kHistogramHeader, hist);
   } else {
-    const double ticks = f.at("ticks");
-    const double loop_wall = f.at("wall_s");
     std::printf("RESULT fast_ns_per_body_step %.2f (whole run: %.0f ticks in %.2f s)\n",
-                loop_wall * 1e9 / (ticks * o.bodies), ticks, loop_wall);
+                ns_per_body_step, fig("ticks"), loop_wall);
     // Steady state: the per-second real-time factors from Stats (skipping the first second).
     std::vector<double> per_second;
-    const auto stats = dds.stats();
+    const auto stats = probes.front()->stats();
     for (std::size_t i = 1; i < stats.size(); ++i)
       if (stats[i].rtf_last_second > 0) per_second.push_back(1e-3 / stats[i].rtf_last_second);
     if (!per_second.empty()) {
@@ -487,9 +633,56 @@ int run(const Options& o) {
       std::printf("RESULT fast_ns_per_body_step_median_second %.2f (%zu seconds)\n",
                   p.p50 * 1e9 / o.bodies, p.n);
     }
-    std::printf("  states skipped by the publishers: dds %.0f lcm %.0f of %.0f offered\n",
-                f.count("dds_states_skipped") ? f.at("dds_states_skipped") : 0.0,
-                f.count("lcm_states_skipped") ? f.at("lcm_states_skipped") : 0.0, ticks / 10);
+  }
+  // A state's size on the wire, roughly: 13 doubles and an id per body, plus a small header.
+  const double state_bytes = 108.0 * o.bodies + 64;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    Probe& p = *probes[k];
+    const std::string bus(to_string(o.buses[k]));
+    const double sent = fig(bus + "_states_sent"), skipped = fig(bus + "_states_skipped");
+    const double per_s = static_cast<double>(received[k]) / wall;
+    std::printf("RESULT states_per_s %s received %.1f sent %.1f skipped %.1f bodies_per_s %.4g\n",
+                bus.c_str(), per_s, sent / loop_wall, skipped / loop_wall, per_s * o.bodies);
+    Percentiles l, a, b;
+    if (o.mode == "realtime") {
+      l = percentiles(p.latencies());
+      std::printf("RESULT wrench_to_state_us %s p50 %.1f p99 %.1f max %.1f (n %zu, unseen %d)\n",
+                  bus.c_str(), l.p50, l.p99, l.max, l.n, p.lost());
+      if (f.count(bus + "_command_to_state_us.p50")) {
+        std::printf(
+            "RESULT command_arrival_to_state_sent_us %s p50 %.1f p99 %.1f max %.1f "
+            "(rigidd's own measure)\n",
+            bus.c_str(), fig(bus + "_command_to_state_us.p50"),
+            fig(bus + "_command_to_state_us.p99"), fig(bus + "_command_to_state_us.max"));
+      }
+      a = percentiles(p.server_legs());
+      b = percentiles(p.wire_legs());
+      std::printf(
+          "  of which: wrench sent -> state published p50 %.1f p99 %.1f max %.1f; "
+          "published -> received p50 %.1f p99 %.1f max %.1f\n",
+          a.p50, a.p99, a.max, b.p50, b.p99, b.max);
+    }
+    const bool rt = o.mode == "realtime";
+    rows.push_back(
+        key +
+        fmt(",%d,%.1f,100,%.0f,%.0f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%s,", o.publish_every, wall,
+            fig("ticks"), fig("overruns"), fig("lateness_us.p50"), fig("lateness_us.p99"),
+            fig("lateness_us.max"), fig("step_cost_us.p50"), fig("step_cost_us.p99"),
+            fig("step_cost_us.max"), bus.c_str()) +
+        (rt ? fmt("%.2f,%.2f,%.2f,%zu,%d,%.2f,%.2f,%.2f", l.p50, l.p99, l.max, l.n, p.lost(), a.p50,
+                  b.p50, fig(bus + "_command_to_state_us.p50"))
+            : std::string(",,,,,,,")) +
+        fmt(",%.2f,%.2f,%.2f,%.0f,", per_s, sent / loop_wall, skipped / loop_wall, state_bytes) +
+        (rt ? std::string() : fmt("%.3f", ns_per_body_step)));
+  }
+  append_csv(o.csv, kCsvHeader, rows);
+  if (o.mode == "fast") {
+    std::printf("  states skipped by the publishers:");
+    for (Bus bus : o.buses) {
+      const std::string name(to_string(bus));
+      std::printf(" %s %.0f", name.c_str(), fig(name + "_states_skipped"));
+    }
+    std::printf(" of %.0f offered\n", fig("ticks") / o.publish_every);
   }
   fs::remove_all(dir);
   return 0;
@@ -502,7 +695,21 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
   try {
-    return run(parse(argc, argv));
+    const Options o = parse(argc, argv);
+    if (o.mode == "help") {
+      std::printf(
+          "usage: loop_bench realtime|fast|timer [--bodies N] [--duration S] "
+          "[--transport dds|lcm|dds,lcm]\n"
+          "                  [--publish-every K] [--point-masses] [--push-every-ms MS] "
+          "[--no-subscribers]\n"
+          "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
+          "ARG]...\n"
+          "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
+          "body-step or states per\nsecond a bus sustains (fast), the machine's timer floor "
+          "(timer). See the comment at the top of\nbench/loop_bench.cpp.\n");
+      return 0;
+    }
+    return run(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "loop_bench: %s\n", e.what());
     return 2;

@@ -46,5 +46,7 @@ std::vector<std::unique_ptr<PeerEngine>> built_engines();
 std::unique_ptr<PeerEngine> make_mujoco_engine();
 std::unique_ptr<PeerEngine> make_bullet_engine();
 std::unique_ptr<PeerEngine> make_ode_engine();
+// Ours through the same interface ("rigid", one mode per integrator), to be timed in the same run.
+std::unique_ptr<PeerEngine> make_rigid_engine();
 
 }  // namespace rigid::bench::peers

@@ -219,5 +219,29 @@ TEST_F(PeersTest, RacketFlipMatchesPeersMd) {
   }
 }
 
+// Ours behind the peers' interface (timed beside them by peer_work_precision) is the World that
+// bench/work_precision steps, step for step and bit for bit, on every hard case.
+TEST(RigidEngineTest, IsTheWorldItself) {
+  const auto engine = make_rigid_engine();
+  for (const Case& c : hard_cases()) {
+    SCOPED_TRACE(c.name);
+    const auto through = engine->make_world(c, "exact_rotor4", 1e-3, 2);
+    physics::World direct(world_spec(c, "exact_rotor4", 1e-3, 2));
+    for (int i = 0; i < 200; ++i) {
+      through->step();
+      direct.step();
+    }
+    for (int k = 0; k < 2; ++k) {
+      const BodyState a = through->state(k), b = direct.state(k);
+      EXPECT_EQ(a.p_WBo, b.p_WBo);
+      EXPECT_EQ(a.q_WB.coeffs(), b.q_WB.coeffs());
+      EXPECT_EQ(a.v_WBo, b.v_WBo);
+      EXPECT_EQ(a.w_WB, b.w_WB);
+    }
+  }
+  EXPECT_THROW(engine->make_world(hard_cases().front(), "no_such_integrator", 1e-3, 1),
+               std::runtime_error);
+}
+
 }  // namespace
 }  // namespace rigid::bench::peers

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace rigid::loop {
@@ -24,6 +25,8 @@ class Histogram {
   void merge(const Histogram& other);
 
   std::int64_t count() const { return count_; }
+  // The samples in one bucket (0 <= bucket < kBuckets), for writing the whole distribution out.
+  std::int64_t count_in(int bucket) const { return counts_[static_cast<std::size_t>(bucket)]; }
   std::int64_t max() const { return max_; }
   // The smallest value v such that at least a fraction q of the samples are <= v, reported as the
   // midpoint of its bucket (exact below kExactBelow, and never above max()). 0 when empty.

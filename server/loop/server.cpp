@@ -276,4 +276,14 @@ std::string Server::closing_line() const {
   return line;
 }
 
+std::string Server::lateness_histogram_line() const {
+  std::string line = "lateness_histogram_ns";
+  if (!totals_) return line;
+  const Histogram& h = totals_->lateness;
+  for (int b = 0; b < Histogram::kBuckets; ++b)
+    if (const std::int64_t n = h.count_in(b); n > 0)
+      line += " " + std::to_string(Histogram::bucket_low(b)) + ":" + std::to_string(n);
+  return line;
+}
+
 }  // namespace rigid::loop

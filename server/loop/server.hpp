@@ -79,6 +79,9 @@ class Server final : private LoopOutput {
   // One line summing up the run (after stop): ticks, lateness and step cost percentiles,
   // overruns, states sent and skipped per bus, commands accepted and refused.
   std::string closing_line() const;
+  // The whole run's tick lateness distribution (after stop), for benchmarks that plot it:
+  // "lateness_histogram_ns LOW:COUNT ...", one pair per non-empty bucket, LOW its lower bound.
+  std::string lateness_histogram_line() const;
 
  private:
   void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) override;

@@ -143,6 +143,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   systemd.stopping();
   server.stop();
   log.line(server.closing_line());
+  log.line(server.lateness_histogram_line());
   return 0;
 }
 

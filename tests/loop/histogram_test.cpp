@@ -22,6 +22,26 @@ TEST(Histogram, SmallValuesAreExact) {
   EXPECT_EQ(h.max(), 100);
 }
 
+TEST(Histogram, BucketCountsHoldEverySampleWhereItFalls) {
+  Histogram h;
+  const std::int64_t samples[] = {3, 3, 500, 70'000, 70'500, 9'000'000};
+  for (std::int64_t v : samples)
+    h.record(v);
+  std::int64_t total = 0;
+  for (int b = 0; b < Histogram::kBuckets; ++b)
+    total += h.count_in(b);
+  EXPECT_EQ(total, h.count());
+  EXPECT_EQ(h.count_in(Histogram::bucket_of(3)), 2);
+  EXPECT_EQ(h.count_in(Histogram::bucket_of(500)), 1);
+  EXPECT_EQ(h.count_in(Histogram::bucket_of(9'000'000)), 1);
+  // 70 000 and 70 500 ns are 0.7% apart: the same bucket or neighbours, never lost.
+  EXPECT_EQ(h.count_in(Histogram::bucket_of(70'000)) +
+                (Histogram::bucket_of(70'500) != Histogram::bucket_of(70'000)
+                     ? h.count_in(Histogram::bucket_of(70'500))
+                     : 0),
+            2);
+}
+
 TEST(Histogram, LargeValuesAreWithinTheBucketPrecision) {
   // 1..100000 us in ns, uniform: p50 = 50 ms, p99 = 99 ms, within 1/64.
   Histogram h;
