@@ -56,22 +56,22 @@ Session::~Session() {
 }
 
 void Session::on_each_state(std::function<void(const transport::StateFrame&)> handler) {
-  const std::lock_guard lock(mutex_);
+  const std::lock_guard calls(handler_mutex_);  // waits for a call in progress
   state_handler_ = std::move(handler);
 }
 
 void Session::on_each_accepted(std::function<void(const transport::AcceptedCommand&)> handler) {
-  const std::lock_guard lock(mutex_);
+  const std::lock_guard calls(handler_mutex_);  // waits for a call in progress
   accepted_handler_ = std::move(handler);
 }
 
 void Session::on_each_stats(std::function<void(const transport::StatsReport&)> handler) {
-  const std::lock_guard lock(mutex_);
+  const std::lock_guard calls(handler_mutex_);  // waits for a call in progress
   stats_handler_ = std::move(handler);
 }
 
 void Session::on_each_scene(std::function<void(const transport::SceneDescription&)> handler) {
-  const std::lock_guard lock(mutex_);
+  const std::lock_guard calls(handler_mutex_);  // waits for a call in progress
   scene_handler_ = std::move(handler);
 }
 
@@ -84,6 +84,11 @@ std::optional<transport::SceneDescription> Session::wait_scene(std::chrono::mill
   std::unique_lock lock(mutex_);
   changed_.wait_for(lock, patience, [&] { return scene_.has_value(); });
   return scene_;
+}
+
+std::uint64_t Session::scene_generation() const {
+  const std::lock_guard lock(mutex_);
+  return scene_generation_;
 }
 
 std::optional<transport::StatsReport> Session::wait_stats(std::chrono::milliseconds patience) {
@@ -177,38 +182,38 @@ std::int64_t Session::send(transport::WrenchCommand wrench) {
 }
 
 void Session::on_state(const transport::StateFrame& state) {
-  std::function<void(const transport::StateFrame&)> handler;
   {
     const std::lock_guard lock(mutex_);
     state_ = state;
     server_seen_ = true;
-    handler = state_handler_;
   }
   changed_.notify_all();
-  if (handler) handler(state);
+  const std::lock_guard calls(handler_mutex_);
+  if (state_handler_) state_handler_(state);
 }
 
 void Session::on_stats(const transport::StatsReport& stats) {
-  std::function<void(const transport::StatsReport&)> handler;
   {
     const std::lock_guard lock(mutex_);
     stats_ = stats;
-    handler = stats_handler_;
   }
   changed_.notify_all();
-  if (handler) handler(stats);
+  const std::lock_guard calls(handler_mutex_);
+  if (stats_handler_) stats_handler_(stats);
 }
 
 void Session::on_scene(const transport::SceneDescription& scene) {
-  std::function<void(const transport::SceneDescription&)> handler;
   {
     const std::lock_guard lock(mutex_);
-    scene_ = scene;
+    if (!scene_ || *scene_ != scene) {  // LCM repeats it every second: count changes only
+      scene_ = scene;
+      ++scene_generation_;
+    }
     server_seen_ = true;
-    handler = scene_handler_;
   }
   changed_.notify_all();
-  if (handler) handler(scene);
+  const std::lock_guard calls(handler_mutex_);
+  if (scene_handler_) scene_handler_(scene);
 }
 
 void Session::on_control_reply(const transport::ControlReply& reply) {
@@ -221,16 +226,15 @@ void Session::on_control_reply(const transport::ControlReply& reply) {
 }
 
 void Session::on_accepted(const transport::AcceptedCommand& accepted) {
-  std::function<void(const transport::AcceptedCommand&)> handler;
   {
     const std::lock_guard lock(mutex_);
     if (accepted.source == source_ && accepted.kind == transport::AcceptedKind::kWrench) {
       acceptances_.push_back(accepted);
     }
-    handler = accepted_handler_;
   }
   changed_.notify_all();
-  if (handler) handler(accepted);
+  const std::lock_guard calls(handler_mutex_);
+  if (accepted_handler_) accepted_handler_(accepted);
 }
 
 std::string_view control_name(transport::ControlKind kind) {

@@ -39,7 +39,9 @@ class Session final : public transport::Receiver {
   std::int64_t source() const { return source_; }
 
   // Called on the transport's thread for every state / accepted command (set before traffic
-  // matters; the handler must return quickly).
+  // matters; the handler must return quickly and not call these setters). Setting a handler waits
+  // for a call of the old one in progress: a handler that refers to a caller's locals is cleared
+  // (set to {}) before they go away, and is never called after that.
   void on_each_state(std::function<void(const transport::StateFrame&)> handler);
   void on_each_accepted(std::function<void(const transport::AcceptedCommand&)> handler);
   void on_each_stats(std::function<void(const transport::StatsReport&)> handler);
@@ -49,6 +51,10 @@ class Session final : public transport::Receiver {
   bool wait_server(std::chrono::milliseconds patience);
   // Waits for a SceneInfo (DDS: at once after discovery; LCM: within a second).
   std::optional<transport::SceneDescription> wait_scene(std::chrono::milliseconds patience);
+  // How many different SceneInfos have arrived: it changes when a restarted rigidd runs another
+  // scene, and a client that resolved bodies from the old one (their ids, their place in the
+  // state) must resolve them again (wait_scene(0ms) gives the new one).
+  std::uint64_t scene_generation() const;
   std::optional<transport::StatsReport> wait_stats(std::chrono::milliseconds patience);
   std::optional<transport::StateFrame> latest_state() const;
 
@@ -80,10 +86,12 @@ class Session final : public transport::Receiver {
   std::condition_variable changed_;
   bool server_seen_ = false;
   std::optional<transport::SceneDescription> scene_;
+  std::uint64_t scene_generation_ = 0;
   std::optional<transport::StateFrame> state_;
   std::optional<transport::StatsReport> stats_;
   std::vector<transport::ControlReply> replies_;         // ours only
   std::vector<transport::AcceptedCommand> acceptances_;  // ours only
+  std::mutex handler_mutex_;  // guards the handlers and is held while one runs
   std::function<void(const transport::StateFrame&)> state_handler_;
   std::function<void(const transport::AcceptedCommand&)> accepted_handler_;
   std::function<void(const transport::StatsReport&)> stats_handler_;

@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <iostream>
 #include <numbers>
+#include <optional>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "attitude_control.hpp"
@@ -30,8 +33,74 @@ double seconds(Clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
+// The body to hold as one SceneInfo describes it: its id, its place in the state, and the law
+// built from its inertia and shape. A restarted rigidd may run another scene: then it is resolved
+// again from the new SceneInfo (the same body may have another id, or be gone).
+struct Target {
+  std::int32_t id = 0;
+  std::size_t index = 0;  // in the state's per-body arrays
+  std::string name;
+  std::vector<std::int32_t> ids;  // the scene's: a state of this scene carries the same
+  controllers::AttitudeController law;
+};
+
+// The target in `scene`, or nothing with the reason in `error` (one line).
+std::optional<Target> resolve(const transport::SceneDescription& scene,
+                              const controllers::AttitudeOptions& o, std::string& error) {
+  std::optional<std::int32_t> id;
+  if (o.body.empty()) {
+    if (scene.body_count() != 1) {
+      error = "the scene has " + std::to_string(scene.body_count()) + " bodies: name one (" +
+              clients::body_list(scene) + ")";
+      return std::nullopt;
+    }
+    id = scene.ids[0];
+  } else {
+    id = clients::find_body(scene, o.body);
+  }
+  if (!id) {
+    error = "no body " + clients::quoted(o.body) +
+            " in the scene (bodies: " + clients::body_list(scene) + ")";
+    return std::nullopt;
+  }
+  std::size_t index = 0;
+  while (scene.ids[index] != *id)
+    ++index;
+  const std::string name = scene.names[index];
+  const controllers::Mat3 I_B = controllers::inertia_from(&scene.inertia[6 * index]);
+  if (I_B.trace() <= 0) {
+    error = name + " is a point mass: it has no attitude to hold";
+    return std::nullopt;
+  }
+  Vec3 half;
+  if (scene.shape_kinds[index] == transport::ShapeKind::kBox) {
+    half = 0.5 * Vec3(scene.shape_dims[3 * index], scene.shape_dims[3 * index + 1],
+                      scene.shape_dims[3 * index + 2]);
+  } else if (o.arm) {
+    half = Vec3::Constant(*o.arm);
+  } else {
+    error = name + " is not a box: give the thrusters' lever arm with --arm M";
+    return std::nullopt;
+  }
+  const Quat target = controllers::from_rpy(o.target_rpy_deg[0] * kDeg, o.target_rpy_deg[1] * kDeg,
+                                            o.target_rpy_deg[2] * kDeg);
+  return Target{*id, index, name, scene.ids,
+                controllers::AttitudeController(
+                    I_B, controllers::ThrusterSet::box(half, o.max_thrust), target)};
+}
+
+void print_holding(const controllers::AttitudeOptions& o, const Target& t) {
+  std::printf(
+      "rigid-attitude: holding %s at roll %g pitch %g yaw %g deg with 6 thrusters of %g N "
+      "at %g Hz\n",
+      t.name.c_str(), o.target_rpy_deg[0], o.target_rpy_deg[1], o.target_rpy_deg[2], o.max_thrust,
+      o.rate_hz);
+  std::fflush(stdout);
+}
+
 int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
   clients::Session session(o.bus);
+  std::uint64_t generation = session.scene_generation();
   const auto scene = session.wait_scene(o.timeout);
   if (!scene) {
     std::cerr << "rigid-attitude: no SceneInfo from rigidd within "
@@ -39,63 +108,24 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
               << clients::describe(o.bus) << '\n';
     return clients::kExitTimeout;
   }
-  std::optional<std::int32_t> id;
-  if (o.body.empty()) {
-    if (scene->body_count() != 1) {
-      std::cerr << "rigid-attitude: the scene has " << scene->body_count() << " bodies: name one ("
-                << clients::body_list(*scene) << ")\n";
-      return clients::kExitUsage;
-    }
-    id = scene->ids[0];
-  } else {
-    id = clients::find_body(*scene, o.body);
-  }
-  if (!id) {
-    std::cerr << "rigid-attitude: no body " << clients::quoted(o.body)
-              << " in the scene (bodies: " << clients::body_list(*scene) << ")\n";
+  std::string error;
+  std::optional<Target> target = resolve(*scene, o, error);
+  if (!target) {
+    std::cerr << "rigid-attitude: " << error << '\n';
     return clients::kExitUsage;
   }
-  std::size_t index = 0;
-  while (scene->ids[index] != *id)
-    ++index;
-  const std::string name = scene->names[index];
-  const controllers::Mat3 I_B = controllers::inertia_from(&scene->inertia[6 * index]);
-  if (I_B.trace() <= 0) {
-    std::cerr << "rigid-attitude: " << name << " is a point mass: it has no attitude to hold\n";
-    return clients::kExitUsage;
-  }
-  Vec3 half;
-  if (scene->shape_kinds[index] == transport::ShapeKind::kBox) {
-    half = 0.5 * Vec3(scene->shape_dims[3 * index], scene->shape_dims[3 * index + 1],
-                      scene->shape_dims[3 * index + 2]);
-  } else if (o.arm) {
-    half = Vec3::Constant(*o.arm);
-  } else {
-    std::cerr << "rigid-attitude: " << name
-              << " is not a box: give the thrusters' lever arm with --arm M\n";
-    return clients::kExitUsage;
-  }
-  const Quat target = controllers::from_rpy(o.target_rpy_deg[0] * kDeg, o.target_rpy_deg[1] * kDeg,
-                                            o.target_rpy_deg[2] * kDeg);
-  const controllers::AttitudeController law(I_B, controllers::ThrusterSet::box(half, o.max_thrust),
-                                            target);
-  const auto& thrusters = law.thrusters().thrusters();
+  print_holding(o, *target);
 
   const auto period = std::chrono::duration_cast<Clock::duration>(1s / o.rate_hz);
   // A wrench outlives a few periods: if this controller stops, its thrust stops with it.
   const double ttl = 3.0 * seconds(period);
-  std::printf(
-      "rigid-attitude: holding %s at roll %g pitch %g yaw %g deg with 6 thrusters of %g N "
-      "at %g Hz\n",
-      name.c_str(), o.target_rpy_deg[0], o.target_rpy_deg[1], o.target_rpy_deg[2], o.max_thrust,
-      o.rate_hz);
-  std::fflush(stdout);
 
   transport::WrenchCommand w;
-  w.body_id = *id;
   w.force_frame = transport::Frame::kBody;
   w.ttl = ttl;
   const auto publish = [&](const controllers::Thrusts& u, double wrench_ttl) {
+    const auto& thrusters = target->law.thrusters().thrusters();
+    w.body_id = target->id;
     for (std::size_t i = 0; i < thrusters.size(); ++i) {
       const Vec3 f = u[i] * thrusters[i].axis_B;
       w.key = static_cast<std::int32_t>(i);
@@ -125,6 +155,17 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
       }
       break;
     }
+    if (session.scene_generation() != generation) {
+      // A restarted rigidd with another scene: find the body in it again.
+      generation = session.scene_generation();
+      std::optional<Target> now_target = resolve(*session.wait_scene(0ms), o, error);
+      if (!now_target) {
+        std::cerr << "rigid-attitude: rigidd's scene changed: " << error << '\n';
+        return clients::kExitFailed;
+      }
+      target = std::move(now_target);
+      print_holding(o, *target);
+    }
     const auto state = session.latest_state();
     if (state && state->tick != last_tick) {
       last_tick = state->tick;
@@ -136,15 +177,16 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
                 << clients::describe(o.bus) << '\n';
       return clients::kExitTimeout;
     }
-    if (state && state->body_count() > index && state->ids[index] == *id) {
-      const double* q = &state->orientation[4 * index];
-      const double* wv = &state->angular_velocity[3 * index];
+    // Only a state of the target's scene (a new rigidd's may come before its SceneInfo).
+    if (state && state->ids == target->ids) {
+      const double* q = &state->orientation[4 * target->index];
+      const double* wv = &state->angular_velocity[3 * target->index];
       const Quat q_WB(q[0], q[1], q[2], q[3]);
       const Vec3 w_W(wv[0], wv[1], wv[2]);
-      const controllers::Thrusts u = law.thrusts(q_WB, w_W);
+      const controllers::Thrusts u = target->law.thrusts(q_WB, w_W);
       publish(u, ttl);
-      const double error = controllers::angle_between(q_WB, target) / kDeg;
-      if (error >= o.settle_deg) {
+      const double error_deg = controllers::angle_between(q_WB, target->law.target()) / kDeg;
+      if (error_deg >= o.settle_deg) {
         within = false;
       } else if (!within) {
         within = true;
@@ -155,7 +197,7 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
         for (const double ui : u)
           thrust = std::max(thrust, std::abs(ui));
         std::printf("t %7.2f s  error %8.3f deg  rate %6.3f rad/s  thrust max %5.2f N\n",
-                    seconds(now - start), error, w_W.norm(), thrust);
+                    seconds(now - start), error_deg, w_W.norm(), thrust);
         std::fflush(stdout);
         next_print = now + kPrintPeriod;
       }

@@ -168,6 +168,23 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
   return kExitOk;
 }
 
+// Clears the session's state and Stats handlers when the command that set them returns: they
+// refer to its locals, which the transport's thread would otherwise go on calling into after they
+// are gone (the session outlives the command). Declared after those locals, so it runs first.
+class HandlerScope {
+ public:
+  explicit HandlerScope(Session& session) : session_(session) {}
+  ~HandlerScope() {
+    session_.on_each_state({});
+    session_.on_each_stats({});
+  }
+  HandlerScope(const HandlerScope&) = delete;
+  HandlerScope& operator=(const HandlerScope&) = delete;
+
+ private:
+  Session& session_;
+};
+
 // States from the transport's thread to the main thread, which prints them.
 class StateQueue {
  public:
@@ -214,32 +231,41 @@ void print_table(const transport::StateFrame& f, const transport::SceneDescripti
   out.flush();
 }
 
+// Which bodies echo prints, by their index in the state (ids in scene order); empty: all. False
+// (and the reason on err) if one of them is not in the scene.
+bool select_bodies(const CtlOptions& o, const transport::SceneDescription& scene,
+                   std::vector<bool>& only, std::ostream& err) {
+  only.clear();
+  if (o.bodies.empty()) return true;
+  only.assign(scene.body_count(), false);
+  for (const std::string& b : o.bodies) {
+    const auto id = clients::find_body(scene, b);
+    if (!id) {
+      err << "rigidctl: echo: no body " << clients::quoted(b)
+          << " in the scene (bodies: " << clients::body_list(scene) << ")\n";
+      return false;
+    }
+    for (std::size_t i = 0; i < scene.ids.size(); ++i)
+      if (scene.ids[i] == *id) only[i] = true;
+  }
+  return true;
+}
+
 int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, std::ostream& out,
          std::ostream& err) {
   StateQueue queue;
+  const HandlerScope handlers(session);
   session.on_each_state([&](const transport::StateFrame& s) { queue.push(s); });
-  const auto scene = session.wait_scene(o.timeout);
+  std::uint64_t generation = session.scene_generation();
+  auto scene = session.wait_scene(o.timeout);
   if (!scene) {
     err << no_answer(o, "SceneInfo") << '\n';
     return kExitTimeout;
   }
-  // Which bodies, by their index in the state (ids in scene order).
   std::vector<bool> only;
-  if (!o.bodies.empty()) {
-    only.assign(scene->body_count(), false);
-    for (const std::string& b : o.bodies) {
-      const auto id = clients::find_body(*scene, b);
-      if (!id) {
-        err << "rigidctl: echo: no body " << clients::quoted(b)
-            << " in the scene (bodies: " << clients::body_list(*scene) << ")\n";
-        return clients::kExitUsage;
-      }
-      for (std::size_t i = 0; i < scene->ids.size(); ++i)
-        if (scene->ids[i] == *id) only[i] = true;
-    }
-  }
+  if (!select_bodies(o, *scene, only, err)) return clients::kExitUsage;
   const bool tty = ::isatty(STDOUT_FILENO) == 1;
-  const clients::BodyNames names(*scene);
+  clients::BodyNames names(*scene);
   const double rate = o.rate_hz.value_or(o.csv ? 0.0 : 10.0);  // 0: every state
   const auto period =
       std::chrono::nanoseconds(rate > 0 ? static_cast<std::int64_t>(1e9 / rate) : 0);
@@ -251,6 +277,13 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
   while (!o.count || printed < *o.count) {
     if (signals.wait(0ms)) break;
     auto states = queue.take(100ms);
+    // A restarted rigidd may run another scene: name and select its bodies from the new one.
+    if (session.scene_generation() != generation) {
+      generation = session.scene_generation();
+      scene = session.wait_scene(0ms);
+      names = clients::BodyNames(*scene);
+      if (!select_bodies(o, *scene, only, err)) return kExitFailed;
+    }
     const auto now = std::chrono::steady_clock::now();
     if (states.empty()) {
       if (now - last_state > o.timeout) {
@@ -266,7 +299,8 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
       states.erase(states.begin(), states.end() - 1);  // the newest only
     }
     for (const transport::StateFrame& s : states) {
-      if (s.body_count() != only.size() && !only.empty()) continue;  // not this scene's
+      // Not this scene's (a new rigidd whose SceneInfo has not arrived yet): names would be wrong.
+      if (s.ids != scene->ids) continue;
       if (o.csv) {
         text.clear();
         clients::append_frame_rows(s, names, text, only);
@@ -292,6 +326,9 @@ void print_stats(const transport::StatsReport& s, std::ostream& out) {
              s.lateness_p99_us, s.lateness_max_us, static_cast<long long>(s.overruns))
       << fmt("  step cost us: p50 %.1f  max %.1f   states skipped %lld\n", s.step_cost_p50_us,
              s.step_cost_max_us, static_cast<long long>(s.states_skipped))
+      << fmt("  physics: bodies frozen %lld, large-rotation steps %lld\n",
+             static_cast<long long>(s.bodies_frozen),
+             static_cast<long long>(s.large_rotation_steps))
       << fmt("  commands: accepted %lld, refused %lld (non_finite %lld, unknown_body %lld, "
              "over_limit %lld, undecodable %lld, stale_sequence %lld, queue_full %lld, invalid "
              "%lld)\n",
@@ -313,6 +350,7 @@ int stats(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals,
   std::mutex mutex;
   std::condition_variable changed;
   std::deque<transport::StatsReport> reports;
+  const HandlerScope handlers(session);
   session.on_each_stats([&](const transport::StatsReport& s) {
     {
       const std::lock_guard lock(mutex);

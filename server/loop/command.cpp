@@ -33,7 +33,7 @@ std::string_view to_string(ReplyNote note) {
     case ReplyNote::kUnknownCommand:
       return "unknown command";
     case ReplyNote::kBadSteps:
-      return "steps must be >= 1";
+      return "steps must be >= 1 and <= 1000000000";  // CommandValidator::kMaxSteps
     case ReplyNote::kBadRtf:
       return "rtf must be > 0 and <= 1000";
     case ReplyNote::kNonFinite:

@@ -3,6 +3,7 @@
 #include <sys/prctl.h>
 
 #include <algorithm>
+#include <span>
 
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
@@ -40,7 +41,9 @@ Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
       control_sources_(config.source_capacity),
       schedule_(0, config.tick_dt * 1e9),
       stats_(config.tick_dt, 0),
-      summaries_(LoopSummary{}) {
+      summaries_(LoopSummary{}),
+      frozen_events_(static_cast<std::size_t>(driven_.world().body_count())),
+      frozen_reported_(static_cast<std::size_t>(driven_.world().body_count()), 0) {
   shape_state_frame(driven_.world(), frame_);
   paused_ = config_.mode == Mode::kLockstep;
 }
@@ -145,9 +148,23 @@ void Loop::idle_wait() {
 
 void Loop::roll_stats(std::int64_t now_ns) {
   const std::int64_t tick = driven_.tick();
-  summaries_.back() = stats_.close_window(now_ns, tick, static_cast<double>(tick) * config_.tick_dt,
-                                          config_.mode, paused_ && step_left_ == 0);
+  LoopSummary& s = summaries_.back();
+  s = stats_.close_window(now_ns, tick, static_cast<double>(tick) * config_.tick_dt, config_.mode,
+                          paused_ && step_left_ == 0);
+  s.bodies_frozen = static_cast<std::int64_t>(driven_.world().frozen_bodies().size());
+  s.large_rotation_steps = large_rotations_before_reset_ + driven_.world().large_rotation_steps();
   summaries_.publish();
+}
+
+void Loop::note_frozen_bodies() {
+  const std::span<const int> frozen = driven_.world().frozen_bodies();
+  for (; frozen_seen_ < frozen.size(); ++frozen_seen_) {
+    const auto id = static_cast<std::size_t>(frozen[frozen_seen_]);
+    if (frozen_reported_[id] != 0) continue;  // frozen before a reset: logged then
+    frozen_reported_[id] = 1;
+    // Room for every body once: this push cannot fail.
+    (void)frozen_events_.try_push(FrozenBody{static_cast<std::int32_t>(id), driven_.tick()});
+  }
 }
 
 void Loop::drain() {
@@ -273,7 +290,9 @@ void Loop::do_reset() {
                         ControlKind::kStep, Outcome::kFailed, driven_.tick(),
                         ReplyNote::kInterruptedByReset, done});
   }
-  driven_.reset();
+  large_rotations_before_reset_ += driven_.world().large_rotation_steps();
+  driven_.reset();  // thaws the frozen bodies
+  frozen_seen_ = 0;
   new_command_ = false;
   first_arrival_ns_ = 0;
   hashed_tick_ = -1;
@@ -286,6 +305,7 @@ void Loop::step_tick() {
   driven_.step_tick();
   stats_.count_tick();
   stats_.record_step_cost(monotonic_ns() - t0);
+  note_frozen_bodies();
 
   const std::int64_t tick = driven_.tick();
   bool publish = tick % config_.publish_every == 0 || new_command_;

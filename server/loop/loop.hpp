@@ -13,7 +13,8 @@
 // Every command carried out goes to the output's journal with its tick (journal_entry.hpp), and
 // with hash_states a hash of every published state too, so that a replay can reproduce the run.
 // Paused (or in lockstep with no step requested) the loop waits on the command doorbell and
-// republishes the unchanged state once a second for late subscribers.
+// republishes the unchanged state once a second for late subscribers. A body the physics guard
+// freezes (physics/world.hpp) is counted in the summary and queued once for the log.
 //
 // run() allocates nothing: everything is sized in the constructor (tests/loop proves it).
 #pragma once
@@ -36,6 +37,13 @@
 #include "transport/messages.hpp"
 
 namespace rigid::loop {
+
+// A body the physics guard froze (physics::World::frozen_bodies), for the log: the loop thread
+// cannot log, so it queues these for the server's housekeeping thread.
+struct FrozenBody {
+  std::int32_t body = 0;
+  std::int64_t tick = 0;  // the first tick after which it was found frozen
+};
 
 struct LoopConfig {
   transport::Mode mode = transport::Mode::kRealtime;
@@ -72,6 +80,9 @@ class Loop {
   std::int64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
   // One reader thread: the newest one-second summary, if one came since the last call.
   bool take_summary(LoopSummary& out);
+  // One reader thread: the next body frozen for the first time in this run, if any. Each body
+  // comes at most once (the queue holds one entry per body: none is ever lost).
+  bool take_frozen(FrozenBody& out) { return frozen_events_.try_pop(out); }
 
   // After run() has returned (or before it started).
   RunTotals totals() const;
@@ -96,6 +107,7 @@ class Loop {
   bool sleep_to(std::int64_t deadline_ns);
   void idle_wait();
   void roll_stats(std::int64_t now_ns);
+  void note_frozen_bodies();
 
   const LoopConfig config_;
   DrivenWorld driven_;  // the world, its acting wrenches and the tick counter
@@ -121,6 +133,13 @@ class Loop {
   std::int64_t last_publish_ns_ = 0;
   std::int64_t first_arrival_ns_ = 0;  // of the commands not yet shown in a published state
   std::int64_t hashed_tick_ = -1;      // the last state hashed (an idle republish is not again)
+
+  // Physics faults. The world lists its frozen bodies in order; frozen_seen_ of them have been
+  // looked at (a reset empties the list). Each body is queued for the log the first time only.
+  BoundedQueue<FrozenBody> frozen_events_;
+  std::vector<std::uint8_t> frozen_reported_;  // by body id
+  std::size_t frozen_seen_ = 0;
+  std::int64_t large_rotations_before_reset_ = 0;  // the world's count restarts at each reset
 
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> heartbeat_{0};

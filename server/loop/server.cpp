@@ -168,6 +168,20 @@ void Server::stop() {
   for (auto& p : publishers_)
     p->stop();
   rejects_.flush(log_);
+  log_frozen_bodies();
+}
+
+void Server::log_frozen_bodies() {
+  FrozenBody f;
+  while (loop_.take_frozen(f)) {
+    const auto i = static_cast<std::size_t>(f.body);
+    const std::string name = i < scene_info_.names.size() ? scene_info_.names[i] : "?";
+    log_.line("body '" + name + "' (id " + std::to_string(f.body) + ") frozen at tick " +
+              std::to_string(f.tick) +
+              ": its state went non-finite or beyond 1e100 (the integrator diverged under its "
+              "loads); held at its last good state, at rest, ignoring loads until a reset; the "
+              "rest of the world goes on (Stats counts frozen bodies)");
+  }
 }
 
 bool Server::first_state_sent() const {
@@ -205,6 +219,8 @@ transport::StatsReport Server::make_stats(const LoopSummary& s) const {
   r.overruns = s.overruns;
   r.step_cost_p50_us = s.step_cost_p50_us;
   r.step_cost_max_us = s.step_cost_max_us;
+  r.bodies_frozen = s.bodies_frozen;
+  r.large_rotation_steps = s.large_rotation_steps;
   for (const auto& p : publishers_)
     r.states_skipped += p->states_skipped();
   r.commands_accepted = loop_.commands_accepted();
@@ -227,6 +243,7 @@ void Server::housekeeping() {
     if (stopping_) break;
     lock.unlock();
     rejects_.flush(log_);
+    log_frozen_bodies();
     const std::int64_t now = monotonic_ns();
     if (loop_.take_summary(summary)) {
       const transport::StatsReport stats = make_stats(summary);
@@ -273,6 +290,7 @@ std::string Server::closing_line() const {
   }
   line += " commands_accepted=" + std::to_string(loop_.commands_accepted()) +
           " commands_rejected=" + std::to_string(rejects_.total());
+  line += " bodies_frozen=" + std::to_string(loop_.world().frozen_bodies().size());
   return line;
 }
 

@@ -3,7 +3,7 @@
 // on rigid/accepted and, with --journal, writes the journal file), and a housekeeping thread that
 // publishes Stats when the loop closes a one-second window, republishes SceneInfo on LCM every
 // second (DDS keeps it for late joiners: transient-local), and writes deferred log lines (first
-// refusals, overruns).
+// refusals, overruns, bodies frozen by the physics guard).
 //
 // Order of use: construct; create each transport with receiver(bus) and give it to
 // add_transport; start(); ... stop() (or the destructor). Threads: the loop, one per publisher,
@@ -89,6 +89,8 @@ class Server final : private LoopOutput {
   void journal(const JournalEntry& entry) override { journal_->push(entry); }
   void publish_accepted(const transport::AcceptedCommand& accepted);
   void housekeeping();
+  // Logs each body the loop found frozen for the first time (housekeeping and stop).
+  void log_frozen_bodies();
   transport::StatsReport make_stats(const LoopSummary& summary) const;
   void set_priorities();
 

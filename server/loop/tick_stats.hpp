@@ -26,6 +26,10 @@ struct LoopSummary {
   double step_cost_p50_us = 0.0;
   double step_cost_max_us = 0.0;
   std::int64_t ticks_stepped = 0;  // since start (resets do not rewind it)
+  // Physics faults (set by the loop, which owns the world): bodies the guard holds frozen now,
+  // and body-steps that turned by more than pi since start (resets do not rewind it).
+  std::int64_t bodies_frozen = 0;
+  std::int64_t large_rotation_steps = 0;
 };
 
 // The whole run, for the closing log line and the benchmark.

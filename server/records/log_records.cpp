@@ -126,6 +126,8 @@ void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs:
   out.set_overruns(in.overruns);
   out.set_step_cost_p50_us(in.step_cost_p50_us);
   out.set_step_cost_max_us(in.step_cost_max_us);
+  out.set_bodies_frozen(in.bodies_frozen);
+  out.set_large_rotation_steps(in.large_rotation_steps);
   out.set_states_skipped(in.states_skipped);
   out.set_commands_accepted(in.commands_accepted);
   out.set_rejected_non_finite(in.rejected.non_finite);
@@ -153,6 +155,8 @@ void from_record(const msgs::StatsRecord& in, transport::StatsReport& out) {
   out.overruns = in.overruns();
   out.step_cost_p50_us = in.step_cost_p50_us();
   out.step_cost_max_us = in.step_cost_max_us();
+  out.bodies_frozen = in.bodies_frozen();
+  out.large_rotation_steps = in.large_rotation_steps();
   out.states_skipped = in.states_skipped();
   out.commands_accepted = in.commands_accepted();
   out.rejected = {in.rejected_non_finite(),  in.rejected_unknown_body(),   in.rejected_over_limit(),

@@ -179,6 +179,8 @@ struct StatsReport {
   std::int64_t overruns = 0;
   double step_cost_p50_us = 0.0;
   double step_cost_max_us = 0.0;
+  std::int64_t bodies_frozen = 0;         // by the physics guard, now (a reset thaws them)
+  std::int64_t large_rotation_steps = 0;  // body-steps turning by more than pi, since start
   std::int64_t states_skipped = 0;
   std::int64_t commands_accepted = 0;
   RejectCounts rejected;

@@ -118,6 +118,38 @@ TEST(RecordFile, RecordsComeBackExactlyAsWritten) {
   EXPECT_EQ(reader.offset(), reader.size());
 }
 
+TEST(RecordFile, StatsRecordsKeepEveryField) {
+  // A distinct value in every field, so that a field dropped or swapped on the way shows.
+  transport::StatsReport s;
+  s.tick = 1;
+  s.sim_time = 2.5;
+  s.mode = transport::Mode::kLockstep;
+  s.paused = true;
+  s.rtf_last_second = 3.5;
+  s.rtf_since_start = 4.5;
+  s.lateness_p50_us = 5.5;
+  s.lateness_p99_us = 6.5;
+  s.lateness_max_us = 7.5;
+  s.overruns = 8;
+  s.step_cost_p50_us = 9.5;
+  s.step_cost_max_us = 10.5;
+  s.bodies_frozen = 11;
+  s.large_rotation_steps = 12;
+  s.states_skipped = 13;
+  s.commands_accepted = 14;
+  s.rejected = {15, 16, 17, 18, 19, 20, 21};
+  s.dds = {22, 23, 24, 25};
+  s.lcm = {26, 27, 28, 29};
+  msgs::StatsRecord record;
+  records::to_record(s, 30, record);
+  msgs::StatsRecord parsed;
+  ASSERT_TRUE(parsed.ParseFromString(record.SerializeAsString()));
+  EXPECT_EQ(parsed.recorded_ns(), 30);
+  transport::StatsReport back;
+  records::from_record(parsed, back);
+  EXPECT_EQ(back, s);
+}
+
 TEST(RecordFile, AFileCutAtAnyByteReadsEveryCompleteRecordAndReportsTheTail) {
   // What a writer killed mid-write leaves: every prefix of a valid file.
   TestDir dir;

@@ -130,7 +130,7 @@ TEST_F(IntakeTest, ARefusedControlIsAnsweredOnItsBus) {
   EXPECT_EQ(r.seq, 77);
   EXPECT_EQ(r.source, 5);
   EXPECT_EQ(r.outcome, transport::Outcome::kInvalid);
-  EXPECT_EQ(reply_message(r), "steps must be >= 1");
+  EXPECT_EQ(reply_message(r), "steps must be >= 1 and <= 1000000000");
   EXPECT_EQ(rejects_.counts().invalid, 1);
 }
 

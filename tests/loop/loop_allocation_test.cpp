@@ -117,6 +117,20 @@ body { name: "rocket" mass: 5 inertia { x: 0.45 y: 0.42 z: 0.05 } angular_drag: 
 force { body: "rocket" force { z: 10 } point { x: 0.02 z: -0.5 } frame: BODY }
 )";
 
+// kScene with RK4 and a sixth body whose drag is stiff for RK4 (c dt / m = 5): it moves, diverges
+// and is frozen by the physics guard, again after each reset (the loop's fault reporting runs).
+const char* kDivergingScene = R"(
+world { rate_hz: 1000 publish_every: 10 gravity { z: -9.81 } limits { max_ttl: 10 }
+        integrator: "rk4" }
+body { name: "puck" mass: 2 }
+body { name: "sphere" mass: 1 inertia { x: 2 y: 2 z: 2 } }
+body { name: "top" mass: 1 inertia { x: 1 y: 1 z: 2 } angular_velocity { x: 0.1 z: 5 } }
+body { name: "brick" mass: 1 inertia { x: 1 y: 2 z: 3 } angular_velocity { x: 0.1 y: 3 } }
+body { name: "rocket" mass: 5 inertia { x: 0.45 y: 0.42 z: 0.05 } angular_drag: 0.02 }
+body { name: "sled" mass: 1 linear_drag: 5000 use_gravity: false velocity { x: 1 } }
+force { body: "rocket" force { z: 10 } point { x: 0.02 z: -0.5 } frame: BODY }
+)";
+
 Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std::int32_t key,
                    double ttl) {
   Wrench w;
@@ -180,8 +194,8 @@ struct Rig {
 // (paused or lockstep: it republishes and rolls its statistics window).
 // With `journaling`, as rigidd --journal runs it: every state hashed on the loop thread and every
 // entry pushed to a real Journal writing a file from its own thread.
-void expect_no_allocations(Mode mode, bool journaling = false) {
-  Rig rig(make_scene(kScene), mode, journaling);
+void expect_no_allocations(Mode mode, bool journaling = false, const char* scene = kScene) {
+  Rig rig(make_scene(scene), mode, journaling);
   std::unique_ptr<Journal> journal;
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("loop_allocation_" + std::to_string(getpid()) + ".journal"))
@@ -261,6 +275,12 @@ void expect_no_allocations(Mode mode, bool journaling = false) {
   EXPECT_GT(rig.out.replies.size(), 20u);
   EXPECT_GT(rig.a.states_sent(), 10);
   EXPECT_GT(rig.b.states_sent(), 10);
+  if (scene == kDivergingScene) {
+    FrozenBody f;
+    ASSERT_TRUE(rig.loop.take_frozen(f)) << "the sled was never frozen";
+    EXPECT_EQ(f.body, 5);
+    EXPECT_FALSE(rig.loop.take_frozen(f));  // reported once, however often it froze
+  }
 }
 
 TEST(LoopAllocation, RealtimeModeAllocatesNothingOnTheLoopThread) {
@@ -277,6 +297,10 @@ TEST(LoopAllocation, LockstepModeAllocatesNothingOnTheLoopThread) {
 
 TEST(LoopAllocation, JournalingAllocatesNothingOnTheLoopThread) {
   expect_no_allocations(Mode::kFast, true);
+}
+
+TEST(LoopAllocation, AFrozenBodyAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kFast, false, kDivergingScene);
 }
 
 TEST(LoopAllocation, TheCounterSeesAllocations) {

@@ -130,6 +130,8 @@ class RandomMessages {
     m.overruns = i64();
     m.step_cost_p50_us = real();
     m.step_cost_max_us = real();
+    m.bodies_frozen = i64();
+    m.large_rotation_steps = i64();
     m.states_skipped = i64();
     m.commands_accepted = i64();
     m.rejected = {i64(), i64(), i64(), i64(), i64(), i64(), i64()};

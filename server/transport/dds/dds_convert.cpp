@@ -164,6 +164,8 @@ bool borrow(const StatsReport& in, BorrowScratch& /*scratch*/, rigid_Stats& out)
   out.overruns = in.overruns;
   out.step_cost_p50_us = in.step_cost_p50_us;
   out.step_cost_max_us = in.step_cost_max_us;
+  out.bodies_frozen = in.bodies_frozen;
+  out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
   out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,
@@ -187,6 +189,8 @@ DecodeStatus copy_from(const rigid_Stats& in, StatsReport& out) {
   out.overruns = in.overruns;
   out.step_cost_p50_us = in.step_cost_p50_us;
   out.step_cost_max_us = in.step_cost_max_us;
+  out.bodies_frozen = in.bodies_frozen;
+  out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
   out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,

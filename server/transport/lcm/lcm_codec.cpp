@@ -83,6 +83,8 @@ constexpr std::array kStatsLayout{
     fixed(K::kDouble, 5),  // rtf_last_second .. lateness_max_us
     kI64,                  // overruns
     fixed(K::kDouble, 2),  // step_cost_p50_us, step_cost_max_us
+    kI64,                  // bodies_frozen
+    kI64,                  // large_rotation_steps
     kI64,                  // states_skipped
     kI64,                  // commands_accepted
     fixed(K::kInt64, 7),   // rejected (RejectCounts, inline)

@@ -183,6 +183,8 @@ bool to_lcm(const StatsReport& in, rigid_lcm::Stats& out) {
   out.overruns = in.overruns;
   out.step_cost_p50_us = in.step_cost_p50_us;
   out.step_cost_max_us = in.step_cost_max_us;
+  out.bodies_frozen = in.bodies_frozen;
+  out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
   to_lcm(in.rejected, out.rejected);
@@ -204,6 +206,8 @@ DecodeStatus from_lcm(const rigid_lcm::Stats& in, StatsReport& out) {
   out.overruns = in.overruns;
   out.step_cost_p50_us = in.step_cost_p50_us;
   out.step_cost_max_us = in.step_cost_max_us;
+  out.bodies_frozen = in.bodies_frozen;
+  out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
   from_lcm(in.rejected, out.rejected);
