@@ -60,10 +60,15 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
     }
     sent = n;
   });
-  std::this_thread::sleep_until(t0 + 1s);
-  const auto reply = rig.monitor->request(harmless, 5s);
+  // A control sent mid-flood is answered. LCM is UDP: under the flood its socket buffer drops a
+  // share of every datagram (the control's included), so, as a controller on a lossy bus would,
+  // the test asks again; every attempt falls within the flood.
+  std::this_thread::sleep_until(t0 + 500ms);
+  std::optional<transport::ControlReply> reply;
+  for (int attempt = 0; attempt < 4 && !reply; ++attempt)
+    reply = rig.monitor->request(harmless, 300ms);
   flood.join();
-  ASSERT_TRUE(reply) << "no answer to a control during the flood";
+  ASSERT_TRUE(reply) << "no answer to 4 controls during the flood";
   // Answered either way: carried out, or dropped with the queue full (and counted).
   EXPECT_TRUE(reply->outcome == transport::Outcome::kOk ||
               reply->message == "dropped: the command queue is full")
@@ -81,7 +86,7 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   }
   const std::int64_t got = received(*after, bus) - received(*before, bus);
   EXPECT_GT(got, sent / 10) << "hardly any of the flood reached rigidd";
-  EXPECT_LE(got, sent + 1);  // the flood and the control
+  EXPECT_LE(got, sent + 4);  // the flood and the controls
   EXPECT_EQ(accounted(*after) - accounted(*before), got)
       << "accepted " << after->commands_accepted - before->commands_accepted << ", queue_full "
       << after->rejected.queue_full - before->rejected.queue_full;
