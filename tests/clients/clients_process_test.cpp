@@ -243,8 +243,9 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
   }
   EXPECT_FALSE(reader.damage());
   EXPECT_TRUE(ended);
-  // 2 s at 100 Hz; best-effort on loopback loses none in practice, the edges may add one.
-  EXPECT_GE(states, 195);
+  // 2 s at 100 Hz; the edges may add one. State is best-effort (keep-last 1): on a quiet
+  // machine loopback loses none, on a loaded one (CI running tests side by side) a few were seen.
+  EXPECT_GE(states, 190);
   EXPECT_LE(states, 202);
   EXPECT_NEAR(static_cast<double>(last_ns - first_ns) * 1e-9, 2.0, 0.05);
   const Completed info = run_program_to_exit(RIGID_RECORD_EXE, {"info", out});
