@@ -108,9 +108,10 @@ Checked<Wrench> CommandValidator::check(const transport::WrenchCommand& w) const
     return refuse<Wrench>(R::kOverLimit, who() + "|torque| " + num(torque) + " N m > max_torque " +
                                              num(limits_.max_torque));
   }
-  // A modest force at a huge lever arm is a huge torque: bound its moment too.
+  // A modest force at a huge lever arm is a huge torque: bound its moment too. Written to refuse
+  // NaN: with a lever arm near 1e308 the cross product is inf - inf (found by fuzzing).
   const double moment = norm(cross(w.point, w.force));
-  if (moment > limits_.max_torque) {
+  if (!(moment <= limits_.max_torque)) {
     return refuse<Wrench>(R::kOverLimit, who() + "|point x force| " + num(moment) +
                                              " N m > max_torque " + num(limits_.max_torque));
   }

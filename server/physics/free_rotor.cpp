@@ -249,6 +249,29 @@ void make_rotor_plan(const RotorInertia& J, const Vec3& mP, double h, RotorPlan&
 
 namespace {
 
+// The integral of psi_integrand over [tau0, tau0 + X] on panels of width <= kPanel.
+double integrate_psi(const RotorPlan& p, double tau0, double X) {
+  const double n = std::ceil(std::abs(X) / kPanel);
+  // X = 0, or NaN (from a non-finite state, which then stays NaN and is the guard's to catch).
+  if (!(n >= 1.0)) return 0.0;
+  const int panels = static_cast<int>(n);  // callers keep X within kMaxPanels panels
+  const double width = X / panels;
+  double integral = 0.0;
+  for (int k = 0; k < panels; ++k) {
+    for (int i = 0; i < kGL6.n; ++i) {
+      const double x = width * (k + 0.5 * (1.0 + kGL6.x[i]));
+      integral += 0.5 * width * kGL6.w[i] * psi_integrand(p.cG, jacobi(tau0 + x, p.m, p.mc).dn);
+    }
+  }
+  return integral;
+}
+
+// A step whose phase advance needs more panels than this (|X| > 1.5e4: a spin of ~1e7 rad/s at
+// dt = 1 ms, from a scene file or from torques) integrates whole periods of dn, 2K(m), as one
+// period each, and only the rest panel by panel. Before, the panel count overflowed int (undefined
+// behaviour, found by fuzzing) or the step ran for hours. Shorter steps are computed as before.
+constexpr double kMaxPanels = 1e5;
+
 // A long step (|X| > kMaxGL4). The addition theorem would cancel catastrophically here (its
 // denominator 1 - m sn^2(tau0) sn^2(X) tends to k'^2 when both phases approach K near the
 // separatrix: 2e-9 lost in one 4 s step of the racket flip), so the phase is taken explicitly,
@@ -257,13 +280,19 @@ namespace {
 void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq,
                   Quat* axis) {
   const double tau0 = elliptic_f(std::atan2(s0, c0), p.m, p.mc);
-  const int panels = static_cast<int>(std::ceil(std::abs(p.X) / kPanel));
-  const double width = p.X / panels;
   double integral = 0.0;
-  for (int k = 0; k < panels; ++k) {
-    for (int i = 0; i < kGL6.n; ++i) {
-      const double x = width * (k + 0.5 * (1.0 + kGL6.x[i]));
-      integral += 0.5 * width * kGL6.w[i] * psi_integrand(p.cG, jacobi(tau0 + x, p.m, p.mc).dn);
+  if (std::abs(p.X) <= kMaxPanels * kPanel) {
+    integral = integrate_psi(p, tau0, p.X);
+  } else {
+    const double period = 2.0 * elliptic_k(p.m);
+    if (std::isfinite(period)) {
+      const double rest = std::fmod(p.X, period);  // exact, |rest| < period
+      integral =
+          (p.X - rest) / period * integrate_psi(p, tau0, period) + integrate_psi(p, tau0, rest);
+    } else {
+      // m = 1, the separatrix: no period, but dn = sech decays and the integrand with it, to
+      // below round-off long before this phase.
+      integral = integrate_psi(p, tau0, std::copysign(kMaxPanels * kPanel, p.X));
     }
   }
   const Jacobi e = jacobi(tau0 + p.X, p.m, p.mc);

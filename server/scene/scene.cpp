@@ -208,7 +208,7 @@ class Loader {
         names += (names.empty() ? "" : ", ") + std::string(info.name);
       }
       fail(node.at("integrator"),
-           "world: unknown integrator '" + w.integrator() + "' (valid: " + names + ")");
+           "world: unknown integrator '" + printable(w.integrator()) + "' (valid: " + names + ")");
     }
     scene_.world.integrator = w.integrator();
 
@@ -498,7 +498,8 @@ Scene parse_scene(std::string_view text, std::string_view name) {
   msgs::Scene msg;
   if (!parser.Parse(&input, &msg)) {
     if (errors.error()) {
-      std::string message = errors.error()->message;
+      // The parser quotes the offending token, which may hold any byte (a line break, too).
+      std::string message = printable(errors.error()->message);
       // At the end of the text the parser's "Expected X, got: " names no token.
       if (message.ends_with("got: ")) message += "the end of the file";
       throw SceneError(std::string(name), errors.error()->pos.line, errors.error()->pos.column,
@@ -509,7 +510,8 @@ Scene parse_scene(std::string_view text, std::string_view name) {
   Scene scene = Loader(name, msg, tree).load();
   std::vector<std::string> warnings;
   for (const CollectErrors::Entry& w : errors.warnings()) {
-    warnings.push_back(std::string(name) + ":" + pos_text(w.pos) + ": warning: " + w.message);
+    warnings.push_back(std::string(name) + ":" + pos_text(w.pos) +
+                       ": warning: " + printable(w.message));
   }
   scene.warnings.insert(scene.warnings.begin(), warnings.begin(), warnings.end());
   return scene;

@@ -45,6 +45,13 @@ void* operator new(std::size_t size) {
 void* operator new[](std::size_t size) {
   return allocate(size);
 }
+// By default the nothrow form calls the one above, but a sanitizer runtime defines its own, which
+// would pair its allocation with the free() below (ASan: alloc-dealloc-mismatch) and escape the
+// count (std::stable_sort takes its buffer from it).
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size == 0 ? 1 : size);
+}
 void operator delete(void* p) noexcept {
   std::free(p);
 }

@@ -29,6 +29,18 @@ void* operator new(std::size_t n, std::align_val_t a) {
   if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
   throw std::bad_alloc();
 }
+// The nothrow forms too (std::stable_sort's buffer comes from one): by default they call the
+// forms above, but a sanitizer runtime defines its own, which would pair its allocation with the
+// free() below (ASan: alloc-dealloc-mismatch) and escape the count.
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(n == 0 ? 1 : n);
+}
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  const std::size_t al = static_cast<std::size_t>(a);
+  return std::aligned_alloc(al, (n + al - 1) / al * al);
+}
 void operator delete(void* p) noexcept {
   std::free(p);
 }

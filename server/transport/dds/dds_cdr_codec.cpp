@@ -39,6 +39,9 @@ class Slot {
 
   DecodeStatus decode(std::span<const std::uint8_t> bytes, Plain& out) {
     if (bytes.size() > std::numeric_limits<std::uint32_t>::max()) return DecodeStatus::kMalformed;
+    // No rigid message is empty; and an empty copy's data() is null, which Cyclone's stream
+    // functions must not be given (declared nonnull: undefined behaviour, found by fuzzing).
+    if (bytes.empty()) return DecodeStatus::kTruncated;
     const auto size = static_cast<std::uint32_t>(bytes.size());
     // Normalizing checks every length and may swap bytes in place, so it works on a copy.
     normalized_.assign(bytes.begin(), bytes.end());

@@ -1,0 +1,133 @@
+// libFuzzer target: the server's command validation (loop/command_validation.hpp) on wrenches and
+// controls whose every field the input sets through FuzzedDataProvider, with numbers drawn mostly
+// from the edges (zeros, infinities, NaN, the largest and smallest doubles, the limits and just
+// past them). The bus fuzzers reach the validator through encoded messages, where a byte-wise
+// mutation seldom makes such numbers in several fields at once. Checks command_contract.hpp.
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "command_contract.hpp"
+
+namespace {
+
+using namespace rigid;
+using Limits = std::numeric_limits<double>;
+
+double pick_double(FuzzedDataProvider& in) {
+  const scene::Limits l = fuzz::CommandContract::limits();
+  const double kEdges[] = {0.0,
+                           -0.0,
+                           1.0,
+                           -1.0,
+                           0.5,
+                           Limits::infinity(),
+                           -Limits::infinity(),
+                           Limits::quiet_NaN(),
+                           Limits::max(),
+                           -Limits::max(),
+                           1e308,
+                           -1e308,
+                           1e154,
+                           -1e154,
+                           Limits::min(),
+                           Limits::denorm_min(),
+                           l.max_force,
+                           std::nextafter(l.max_force, Limits::infinity()),
+                           l.max_torque,
+                           std::nextafter(l.max_torque, Limits::infinity()),
+                           l.max_ttl,
+                           std::nextafter(l.max_ttl, Limits::infinity()),
+                           loop::CommandValidator::kMaxRtf,
+                           std::nextafter(loop::CommandValidator::kMaxRtf, 2e3)};
+  switch (in.ConsumeIntegralInRange(0, 3)) {
+    case 0:
+    case 1:
+      return in.PickValueInArray(kEdges);
+    case 2:
+      return in.ConsumeFloatingPoint<double>();
+    default:
+      return std::bit_cast<double>(in.ConsumeIntegral<std::uint64_t>());
+  }
+}
+
+transport::Vec3 pick_vec3(FuzzedDataProvider& in) {
+  return {pick_double(in), pick_double(in), pick_double(in)};
+}
+
+// A frame or command number: mostly a known one, sometimes anything.
+template <class Enum>
+Enum pick_enum(FuzzedDataProvider& in, std::int32_t last_known) {
+  return static_cast<Enum>(in.ConsumeBool() ? in.ConsumeIntegralInRange<std::int32_t>(0, last_known)
+                                            : in.ConsumeIntegral<std::int32_t>());
+}
+
+transport::WrenchCommand make_wrench(FuzzedDataProvider& in) {
+  static const std::vector<std::string> kNames = fuzz::CommandContract::body_names();
+  transport::WrenchCommand w;
+  w.source = in.ConsumeIntegral<std::int64_t>();
+  w.seq = in.ConsumeIntegral<std::int64_t>();
+  w.key = in.ConsumeIntegral<std::int32_t>();
+  switch (in.ConsumeIntegralInRange(0, 2)) {
+    case 0:  // by id, valid or not
+      w.body_id = in.ConsumeIntegralInRange<std::int32_t>(-1, static_cast<int>(kNames.size()));
+      break;
+    case 1:  // by a name of the scene
+      w.body_id = -1 - in.ConsumeIntegralInRange(0, 3);
+      w.body_name = kNames[in.ConsumeIntegralInRange<std::size_t>(0, kNames.size() - 1)];
+      break;
+    default:  // by any name, any id
+      w.body_id = in.ConsumeIntegral<std::int32_t>();
+      w.body_name = in.ConsumeRandomLengthString(80);
+      break;
+  }
+  w.force = pick_vec3(in);
+  w.point = pick_vec3(in);
+  w.force_frame = pick_enum<transport::Frame>(in, 1);
+  w.torque = pick_vec3(in);
+  w.torque_frame = pick_enum<transport::Frame>(in, 1);
+  w.ttl = pick_double(in);
+  w.stamp_ns = in.ConsumeIntegral<std::int64_t>();
+  return w;
+}
+
+transport::ControlCommand make_control(FuzzedDataProvider& in) {
+  constexpr std::int64_t kMax = loop::CommandValidator::kMaxSteps;
+  const std::int64_t kSteps[] = {0,
+                                 1,
+                                 2,
+                                 kMax,
+                                 kMax + 1,
+                                 -1,
+                                 std::numeric_limits<std::int64_t>::min(),
+                                 std::numeric_limits<std::int64_t>::max()};
+  transport::ControlCommand c;
+  c.source = in.ConsumeIntegral<std::int64_t>();
+  c.seq = in.ConsumeIntegral<std::int64_t>();
+  c.command = pick_enum<transport::ControlKind>(in, 6);
+  c.steps = in.ConsumeBool() ? in.PickValueInArray(kSteps) : in.ConsumeIntegral<std::int64_t>();
+  c.rtf = pick_double(in);
+  return c;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const fuzz::CommandContract contract;
+  FuzzedDataProvider in(data, size);
+  // Several commands per input, of either kind.
+  while (in.remaining_bytes() > 0) {
+    if (in.ConsumeBool()) {
+      contract.check(make_wrench(in));
+    } else {
+      contract.check(make_control(in));
+    }
+  }
+  return 0;
+}

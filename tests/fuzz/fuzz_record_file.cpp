@@ -1,0 +1,56 @@
+// libFuzzer target: any bytes as a log file (recording or journal) read by records::RecordReader,
+// as rigid-record info/export/play and rigid-sim --replay read them. The reader must refuse the
+// file with a LogFileError or read records until the end or a damaged tail, never crash; its
+// offsets must add up (every byte is either read or reported as damaged); and each record that
+// parsed goes through record_checks.hpp. Checksums make most mutated frames damaged:
+// fuzz_log_record covers what is inside a frame.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "fuzz_require.hpp"
+#include "memory_file.hpp"
+#include "record_checks.hpp"
+#include "records/record_file.hpp"
+
+using rigid::fuzz::require;
+
+extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
+  rigid::fuzz::quiet_protobuf();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const rigid::fuzz::MemoryFile file(data, size);
+  std::optional<rigid::records::RecordReader> reader;
+  try {
+    reader.emplace(file.path());
+  } catch (const rigid::records::LogFileError&) {
+    return 0;
+  }
+  require(size >= rigid::records::kLogPreambleBytes, "an accepted file holds its preamble");
+  require(reader->size() == size && reader->offset() == rigid::records::kLogPreambleBytes,
+          "the reader starts after the preamble");
+
+  rigid::msgs::LogRecord record;
+  std::uint64_t offset = reader->offset();
+  std::int64_t records = 0;
+  while (reader->next(record)) {
+    require(
+        reader->offset() >= offset + rigid::records::kFrameHeaderBytes && reader->offset() <= size,
+        "each record moves the reader on, within the file");
+    offset = reader->offset();
+    ++records;
+    rigid::fuzz::check_record(record);
+  }
+  require(reader->records() == records, "the reader counts the records it returned");
+  require(!reader->next(record), "the reader stays at the end");
+  if (const auto& damage = reader->damage()) {
+    require(damage->offset == offset && damage->offset + damage->bytes == size &&
+                !damage->reason.empty(),
+            "a damaged tail starts after the last record and runs to the end of the file");
+  } else {
+    require(offset == size, "without damage the reader reads the whole file");
+  }
+  return 0;
+}

@@ -1,0 +1,278 @@
+// Writes the binary seed corpora of the fuzzers: every message type encoded for each bus
+// (lcm_messages/, dds_messages/), one payload per log record kind (log_record/), small log files,
+// whole and cut short (record_file/), and provider bytes (command_validation/). Small valid inputs
+// give the fuzzers a start past the fingerprints, length fields and checksums. Run it when a
+// message or the record format changes:
+//   build-asan/tests/fuzz/write_seeds tests/fuzz/corpus
+// (the scene corpus is plain text: scene/ holds copies of config/scenes plus hand-written files).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "records/log_records.hpp"
+#include "records/record_file.hpp"
+#include "transport/dds/dds_cdr_codec.hpp"
+#include "transport/lcm/lcm_codec.hpp"
+
+namespace {
+
+using namespace rigid;
+namespace fs = std::filesystem;
+
+void write(const fs::path& path, std::string_view bytes) {
+  fs::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+void write(const fs::path& path, std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) throw std::runtime_error("nothing encoded for " + path.string());
+  write(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+transport::WrenchCommand wrench_by_id() {
+  transport::WrenchCommand w;
+  w.source = 42;
+  w.seq = 7;
+  w.key = 1;
+  w.body_id = 2;
+  w.force = {10.0, 0.0, -1.5};
+  w.point = {0.0, 0.1, 0.0};
+  w.force_frame = transport::Frame::kBody;
+  w.torque = {0.0, 0.0, 0.25};
+  w.ttl = 0.5;
+  w.stamp_ns = 1'700'000'000'000'000'000;
+  return w;
+}
+
+transport::WrenchCommand wrench_by_name() {
+  transport::WrenchCommand w = wrench_by_id();
+  w.body_id = -1;
+  w.body_name = "top";
+  w.torque_frame = transport::Frame::kBody;
+  return w;
+}
+
+transport::ControlCommand control(transport::ControlKind kind, std::int64_t steps, double rtf) {
+  transport::ControlCommand c;
+  c.source = 42;
+  c.seq = 8;
+  c.command = kind;
+  c.steps = steps;
+  c.rtf = rtf;
+  return c;
+}
+
+transport::StateFrame state() {
+  transport::StateFrame s;
+  s.tick = 1000;
+  s.sim_time = 1.0;
+  s.stamp_ns = 1'700'000'000'000'000'000;
+  s.resize(2);
+  s.ids = {0, 1};
+  s.position = {0.0, 0.0, 1.0, 1.0, 0.0, 1.0};
+  s.orientation = {1.0, 0.0, 0.0, 0.0, 0.996, 0.087, 0.0, 0.0};
+  s.linear_velocity = {0.0, 0.0, -9.81, 3.0, 0.0, 0.0};
+  s.angular_velocity = {0.01, 6.0, 0.01, 1.0, 0.0, 20.0};
+  return s;
+}
+
+transport::ControlReply reply() {
+  transport::ControlReply r;
+  r.source = 42;
+  r.seq = 8;
+  r.command = transport::ControlKind::kStep;
+  r.outcome = transport::Outcome::kNotAllowed;
+  r.tick = 1000;
+  r.message = "step needs the loop paused";
+  return r;
+}
+
+transport::StatsReport stats() {
+  transport::StatsReport s;
+  s.tick = 5000;
+  s.sim_time = 5.0;
+  s.mode = transport::Mode::kRealtime;
+  s.paused = true;
+  s.rtf_last_second = 1.0;
+  s.rtf_since_start = 0.999;
+  s.lateness_p50_us = 0.1;
+  s.lateness_p99_us = 4.0;
+  s.lateness_max_us = 30.0;
+  s.overruns = 2;
+  s.commands_accepted = 12;
+  s.rejected.over_limit = 1;
+  s.dds = {100, 0, 12, 1};
+  s.lcm = {100, 0, 3, 0};
+  return s;
+}
+
+transport::SceneDescription scene() {
+  transport::SceneDescription d;
+  d.scene_name = "default";
+  d.dt = 0.001;
+  d.substeps = 1;
+  d.publish_every = 10;
+  d.gravity = {0.0, 0.0, -9.81};
+  d.integrator = "exact_rotor4";
+  d.max_force = 1e6;
+  d.max_torque = 1e6;
+  d.ids = {0, 1};
+  d.names = {"tumbler", "ball"};
+  d.masses = {5.0, 4.19};
+  d.inertia = {0.09, 0.07, 0.03, 0.0, 0.0, 0.0, 0.017, 0.017, 0.017, 0.0, 0.0, 0.0};
+  d.shape_kinds = {transport::ShapeKind::kBox, transport::ShapeKind::kSphere};
+  d.shape_dims = {0.1, 0.25, 0.4, 0.1, 0.0, 0.0};
+  return d;
+}
+
+transport::AcceptedCommand accepted_wrench() {
+  const transport::WrenchCommand w = wrench_by_id();
+  transport::AcceptedCommand a;
+  a.tick = 1001;
+  a.kind = transport::AcceptedKind::kWrench;
+  a.source = w.source;
+  a.seq = w.seq;
+  a.key = w.key;
+  a.body_id = w.body_id;
+  a.force = w.force;
+  a.point = w.point;
+  a.force_frame = w.force_frame;
+  a.torque = w.torque;
+  a.ttl = w.ttl;
+  a.stamp_ns = w.stamp_ns;
+  return a;
+}
+
+transport::AcceptedCommand accepted_control() {
+  transport::AcceptedCommand a;
+  a.tick = 2000;
+  a.kind = transport::AcceptedKind::kControl;
+  a.source = 42;
+  a.seq = 9;
+  a.command = transport::ControlKind::kSetRtf;
+  a.rtf = 2.0;
+  return a;
+}
+
+// The same messages through one bus's codec (lcm::Codec or dds::CdrCodec).
+template <class Codec>
+void write_messages(const fs::path& dir) {
+  Codec codec;
+  using K = transport::ControlKind;
+  write(dir / "wrench_by_id", codec.encode(wrench_by_id()));
+  write(dir / "wrench_by_name", codec.encode(wrench_by_name()));
+  write(dir / "control_pause", codec.encode(control(K::kPause, 0, 0.0)));
+  write(dir / "control_step", codec.encode(control(K::kStep, 10, 0.0)));
+  write(dir / "control_set_rtf", codec.encode(control(K::kSetRtf, 0, 2.5)));
+  write(dir / "state", codec.encode(state()));
+  write(dir / "control_reply", codec.encode(reply()));
+  write(dir / "stats", codec.encode(stats()));
+  write(dir / "scene", codec.encode(scene()));
+  write(dir / "accepted_wrench", codec.encode(accepted_wrench()));
+  write(dir / "accepted_control", codec.encode(accepted_control()));
+}
+
+// One record of each kind, in the order a recording or a journal holds them.
+std::vector<msgs::LogRecord> records() {
+  std::vector<msgs::LogRecord> out;
+  msgs::LogRecord r;
+  msgs::LogHeader& h = *r.mutable_header();
+  h.set_kind(msgs::LogHeader::RECORDING);
+  h.set_schema_version(records::kLogSchemaVersion);
+  h.set_software_version("rigid 0.1.0");
+  h.set_writer("rigid-record");
+  h.set_start_unix_ns(1'700'000'000'000'000'000);
+  records::to_record(scene(), 0, *h.mutable_scene());
+  h.set_integrator("exact_rotor4");
+  h.set_rate_hz(1000.0);
+  h.set_transport("dds");
+  out.push_back(r);
+  r.Clear();
+  records::to_record(scene(), 1'000'000, *r.mutable_scene());
+  out.push_back(r);
+  r.Clear();
+  records::to_record(state(), 2'000'000, *r.mutable_state());
+  out.push_back(r);
+  r.Clear();
+  records::to_record(stats(), 3'000'000, *r.mutable_stats());
+  out.push_back(r);
+  r.Clear();
+  records::to_record(accepted_wrench(), 4'000'000, *r.mutable_command());
+  out.push_back(r);
+  r.Clear();
+  records::to_record(accepted_control(), 5'000'000, *r.mutable_command());
+  out.push_back(r);
+  r.Clear();
+  r.mutable_state_hash()->set_tick(1010);
+  r.mutable_state_hash()->set_hash(0x0123456789abcdefULL);
+  out.push_back(r);
+  r.Clear();
+  r.mutable_gap()->set_dropped(3);
+  r.mutable_gap()->set_tick(1020);
+  out.push_back(r);
+  r.Clear();
+  r.mutable_end()->set_records(static_cast<std::int64_t>(out.size()));
+  out.push_back(r);
+  return out;
+}
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_logs(const fs::path& dir) {
+  const std::vector<msgs::LogRecord> all = records();
+  static constexpr const char* kNames[] = {"header",  "scene",      "state", "stats", "wrench",
+                                           "control", "state_hash", "gap",   "end"};
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    write(dir / "log_record" / kNames[i], all[i].SerializeAsString());
+  }
+  fs::create_directories(dir / "record_file");
+  const fs::path whole = dir / "record_file" / "recording.rlog";
+  {
+    records::RecordWriter writer(whole.string(), /*overwrite=*/true);
+    for (const msgs::LogRecord& r : all)
+      writer.append(r);
+    writer.close();
+  }
+  // Cut inside the state record's payload: a reader reports a damaged tail there.
+  const std::string bytes = read_all(whole);
+  write(dir / "record_file" / "cut_short.rlog",
+        std::string_view(bytes).substr(0, bytes.size() / 2));
+  const fs::path empty = dir / "record_file" / "preamble_only.rlog";
+  records::RecordWriter(empty.string(), /*overwrite=*/true).close();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: write_seeds CORPUS_DIR   (e.g. tests/fuzz/corpus)\n");
+    return 2;
+  }
+  const fs::path dir = argv[1];
+  try {
+    write_messages<transport::lcm::Codec>(dir / "lcm_messages");
+    write_messages<transport::dds::CdrCodec>(dir / "dds_messages");
+    write_logs(dir);
+    // fuzz_command_validation reads its input through FuzzedDataProvider: any bytes make commands.
+    write(dir / "command_validation" / "zeros", std::string(64, '\0'));
+    std::string counting;
+    for (int i = 0; i < 256; ++i)
+      counting += static_cast<char>(i);
+    write(dir / "command_validation" / "counting", counting);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "write_seeds: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
