@@ -314,8 +314,19 @@ TEST_F(JournalReplay, AGapStopsTheReplayThere) {
 
 TEST_F(JournalReplay, ADamagedTailIsReplayedUpToTheDamage) {
   const std::string full = sim::testing::read_file(path_);
+  // Cut inside a record (3 bytes into the first frame that starts past 2/3 of the file): a cut on
+  // a frame boundary would leave a shorter, undamaged journal.
+  std::uint64_t cut = 0;
+  {
+    records::RecordReader reader(path_);
+    msgs::LogRecord rec;
+    while (reader.offset() < full.size() * 2 / 3 && reader.next(rec)) {
+    }
+    cut = reader.offset() + 3;
+  }
+  ASSERT_LT(cut, full.size());
   const std::string path = file("cut.rlog");
-  sim::testing::write_file(path, full.substr(0, full.size() * 2 / 3));
+  sim::testing::write_file(path, full.substr(0, cut));
   const sim::ReplayReport r = replay(path);
   EXPECT_EQ(r.exit_status(), 0);
   EXPECT_FALSE(r.damage.empty());
