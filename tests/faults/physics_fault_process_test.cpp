@@ -66,11 +66,14 @@ TEST_P(PhysicsFault, ADivergingBodyIsFrozenLoggedOnceAndCountedWhileTheRestGoesO
   // After the freeze: the sled at rest and finite, the puck pushed exactly as if alone, the ball
   // spinning on.
   const std::vector<rigidd::testing::TimedState> states = rig.monitor->states();
-  std::int64_t onset = -1;  // the first tick the puck moved
+  // The first tick the puck moved, read off the first moving frame's velocity (k ticks pushed =
+  // k * 0.002 m/s): state is best-effort keep-last-1, so that frame's own tick may be a later one.
+  std::int64_t onset = -1;
   int checked = 0;
   for (const auto& t : states) {
     const transport::StateFrame& s = t.state;
-    if (onset < 0 && s.linear_velocity[3 * kPuck] > 0) onset = s.tick;
+    if (onset < 0 && s.linear_velocity[3 * kPuck] > 0)
+      onset = s.tick + 1 - std::llround(s.linear_velocity[3 * kPuck] / 0.002);
     if (onset < 0 || s.tick < frozen_tick) continue;
     EXPECT_EQ(s.linear_velocity[3 * kSled], 0.0) << "tick " << s.tick;
     EXPECT_TRUE(std::isfinite(s.position[3 * kSled])) << "tick " << s.tick;

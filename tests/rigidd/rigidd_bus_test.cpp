@@ -164,11 +164,15 @@ TEST_P(Rigidd, AWrenchStopsAfterItsTimeToLive) {
   w.force = {4, 0, 0};
   w.ttl = 0.1;
   client_->send(w);
+  // State is best-effort keep-last-1: the client may miss a few frames, so the tick at which the
+  // push began is read off the first moving frame's velocity (k ticks pushed = k * 0.002 m/s), not
+  // assumed to be that frame's tick. Every frame is then checked against that one onset.
   std::int64_t onset = -1;
   ASSERT_TRUE(client_->wait(
       [&] {
         for (const TimedState& t : client_->states_locked()) {
-          if (onset < 0 && t.state.linear_velocity[3 * kPuck] > 0) onset = t.state.tick;
+          const double v = t.state.linear_velocity[3 * kPuck];
+          if (onset < 0 && v > 0) onset = t.state.tick + 1 - std::llround(v / 0.002);
           if (onset >= 0 && t.state.tick >= onset + 250) return true;
         }
         return false;
@@ -177,7 +181,10 @@ TEST_P(Rigidd, AWrenchStopsAfterItsTimeToLive) {
       << "the puck never moved";
   int checked_after = 0;
   for (const TimedState& t : client_->states()) {
-    if (t.state.tick < onset) continue;
+    if (t.state.tick < onset) {
+      EXPECT_EQ(t.state.linear_velocity[3 * kPuck], 0.0) << "tick " << t.state.tick;
+      continue;
+    }
     const double ticks_pushed =
         std::min<double>(static_cast<double>(t.state.tick - onset + 1), 100);
     EXPECT_NEAR(t.state.linear_velocity[3 * kPuck], 0.002 * ticks_pushed, 1e-12)
