@@ -9,6 +9,7 @@
 
 #include <string>
 
+#include "physics/free_rotor.hpp"
 #include "physics/world.hpp"
 
 namespace {
@@ -16,6 +17,7 @@ namespace {
 using rigid::physics::BodySpec;
 using rigid::physics::Frame;
 using rigid::physics::LoadSpec;
+using rigid::physics::Quat;
 using rigid::physics::Vec3;
 using rigid::physics::World;
 using rigid::physics::WorldSpec;
@@ -77,7 +79,41 @@ void BM_Step(benchmark::State& state, Case c, std::string integrator) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// One torque-free long step of the exact rotor with its plan cached (a free body at a long dt):
+// psi in closed form (the default) or by Gauss-Legendre panels (the fallback), side by side.
+void BM_RotorLongStep(benchmark::State& state, Vec3 w0, double h, bool closed) {
+  const Vec3 I(1, 2, 3);
+  const rigid::physics::RotorInertia J(I);
+  Vec3 m = I.cwiseProduct(w0);
+  rigid::physics::RotorPlan p;
+  rigid::physics::make_rotor_plan(J, m, h, p);
+  if (!closed) p.closed = false;
+  Quat axis(0, 0, 0, 0), q = Quat::Identity();
+  for (auto _ : state) {
+    Quat dq;
+    rigid::physics::advance_rotor(p, m, dq, rigid::physics::RotorUpdate::kPinned, &axis);
+    q = q * dq;
+    benchmark::DoNotOptimize(q);
+  }
+  state.counters["ns_per_step"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 void register_all() {
+  const std::pair<Vec3, const char*> spins[] = {{Vec3(20, 0.5, 20), "fast_spin"},
+                                                {Vec3(1e-3, 5, 1e-3), "racket"}};
+  for (const auto& [w0, name] : spins) {
+    for (const double h : {1.0 / 60, 0.1, 1.0}) {
+      for (const bool closed : {true, false}) {
+        benchmark::RegisterBenchmark(
+            (std::string("rotor_long/") + name + "/h=" + std::to_string(h).substr(0, 6) +
+             (closed ? "/closed" : "/panels"))
+                .c_str(),
+            BM_RotorLongStep, w0, h, closed);
+      }
+    }
+  }
   const std::pair<Case, const char*> cases[] = {{kRacket, "racket"},
                                                 {kSphere, "sphere"},
                                                 {kTop, "top"},

@@ -52,6 +52,12 @@ double elliptic_k(double m);
 // x, y, z >= 0 with at most one of them zero.
 double carlson_rf(double x, double y, double z);
 
+// Carlson's symmetric integral of the third kind R_J(x, y, z, p) (DLMF 19.16.2) for x, y, z >= 0
+// with at most one of them zero and p > 0, by duplication (DLMF 19.36.ii; B. C. Carlson,
+// "Numerical computation of real or complex elliptic integrals", Numer. Algorithms 10, 1995).
+// Used with p > 0 only: the Cauchy principal value for p < 0 is not needed.
+double carlson_rj(double x, double y, double z, double p);
+
 // The incomplete integral of the first kind F(phi | m) for any real phi (DLMF 19.2.4), with the
 // complement mc = 1 - m given separately (see jacobi): the inverse of the amplitude, so that
 // sn(F(phi | m) | m) = sin(phi). Uses F = sin(phi) R_F(cos^2 phi, mc + m cos^2 phi, 1) (DLMF

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "physics/elliptic.hpp"
 
@@ -135,7 +136,12 @@ void plan_core(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p, do
   p.abG2 = p.a * p.b * iG * iG;
   p.cG = p.c * iG;
   X = p.c * ell * h;
-  if (std::abs(X) > kMaxGL4) return;  // a long step never uses the addition theorem
+  p.closed = false;
+  if (std::abs(X) > kMaxGL4) {  // a long step never uses the addition theorem
+    p.q = q;
+    p.isr = isr;
+    return;
+  }
   const Jacobi e = JacobiSeries(p.m, std::abs(X)).departures(X);
   p.S = e.sn, p.Cm1 = e.cn, p.Dm1 = e.dn;
   p.C = 1.0 + e.cn, p.D = 1.0 + e.dn;
@@ -150,11 +156,11 @@ inline double psi_integrand(double cG, double dn) {
 }
 
 // Shared tail of a step: the orientation increment from the phases at both ends and dpsi, the
-// new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `integral` is the quadrature
-// of dn / (1 + (c/G) dn) over the phase increment.
+// new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `correction` is (a b / G^2)
+// times the integral of dn / (1 + (c/G) dn) over the phase increment.
 inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double y1, double y2,
-                        double y3, double integral, Vec3& mP, Quat& dq, Quat* axis) {
-  const double dpsi = p.s * (p.lin - p.abG2 * integral);
+                        double y3, double correction, Vec3& mP, Quat& dq, Quat* axis) {
+  const double dpsi = p.s * (p.lin - correction);
   double cz, sincz;
   cos_sinc(0.5 * dpsi, cz, sincz);
   const double sz = 0.5 * dpsi * sincz;
@@ -227,6 +233,73 @@ inline void case_coords(const RotorPlan& p, const Vec3& mP, double& x1, double& 
   }
 }
 
+// Long steps. In terms of the amplitude phi = am(tau) (d phi = dn d tau, dn = Delta(phi) =
+// sqrt(1 - m sin^2 phi)) the psi integral is I = integral of d phi / (1 + g Delta), g = c / G.
+// With (1 + g Delta)^-1 = (1 - g Delta) / (1 - g^2 Delta^2) and, from the amplitudes above,
+// 1 - g^2 Delta^2 = (a^2 / G^2)(1 + q sin^2 phi), q = rho / r (so that 1 - g^2 = a^2 / G^2 and
+// g^2 m = q a^2 / G^2), the correction (a b / G^2) I = (1 / sqrt r) [B(phi1) - B(phi0)] with
+//   B(phi) = Theta(phi) / sqrt(1 + q) - g J(phi),
+//   Theta(phi) = atan(sqrt(1 + q) tan phi)      = sqrt(1 + q) * integral of d phi / (1 + q sin^2),
+//   J(phi) = integral of Delta / (1 + q sin^2) d phi
+//          = F(phi) - ((q + m) / 3) sin^3 phi R_J(cos^2 phi, Delta^2, 1, 1 + q sin^2 phi),
+// the last from Delta / (1 + q s^2) = [(1 + m/q) / (1 + q s^2) - m/q] / Delta and the third-kind
+// integral Pi(-q; phi) = F + (-q / 3) sin^3 phi R_J(...) (DLMF 19.25.14). R_J's last argument
+// 1 + q sin^2 phi >= 1: no principal value. Both Theta and J grow by pi and 2 J(pi/2) per half
+// period of phi, like F by 2K: a step costs a fixed number of Carlson integrals whatever its
+// length, where the panels cost one Jacobi evaluation per 0.025 of phase (3.4 us per 1/60 s step
+// of the fast spin, 14.7 us per 0.1 s). Rounding: B's two terms cancel to O(phi) (pure spin: g = 1,
+// m = 0) or lose a factor ~sqrt q (J = F - ..., large q), so J is used for q <= kMaxClosedQ only;
+// the separatrix (m = 1, F unbounded) keeps the panels too.
+constexpr double kMaxClosedQ = 64.0;
+
+void plan_closed(RotorPlan& p) {
+  if (!(p.m < 1.0 && p.mc > 0.0 && p.q <= kMaxClosedQ)) return;
+  p.sq = std::sqrt(1.0 + p.q);
+  p.qm3 = (p.q + p.m) / 3.0;
+  p.K = carlson_rf(0.0, p.mc, 1.0);
+  p.Jc = p.K - p.qm3 * carlson_rj(0.0, p.mc, 1.0, 1.0 + p.q);
+  p.closed = std::isfinite(p.Jc) && std::isfinite(p.K);
+}
+
+// The reduced amplitude phi_r of phi = j pi + phi_r, |phi_r| <= pi/2, by its sine and cosine (c
+// >= 0): F(phi_r) and J(phi_r).
+struct Reduced {
+  double F, J;
+};
+inline Reduced reduced_integrals(const RotorPlan& p, double s, double c) {
+  const double c2 = c * c;
+  const double delta2 = p.mc + p.m * c2;  // 1 - m s^2 without cancellation near m = 1
+  const double F = s * carlson_rf(c2, delta2, 1.0);
+  const double J = F - p.qm3 * s * s * s * carlson_rj(c2, delta2, 1.0, 1.0 + p.q * s * s);
+  return {F, J};
+}
+
+// The same step as advance_long, psi in closed form. The start phase is (s0, c0) on the curve,
+// the end phase tau0 + X.
+void advance_long_closed(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq,
+                         Quat* axis) {
+  // phi0 = j0 pi + phi_r with cos phi_r >= 0.
+  const double j0 = c0 >= 0.0 ? 0.0 : (s0 >= 0.0 ? 1.0 : -1.0);
+  const double r0s = c0 >= 0.0 ? s0 : -s0, r0c = std::abs(c0);
+  const Reduced r0 = reduced_integrals(p, r0s, r0c);
+  const double tau0 = 2.0 * j0 * p.K + r0.F;
+  const double tau1 = tau0 + p.X;
+  const Jacobi e = jacobi(tau1, p.m, p.mc);
+  // phi1 = j1 pi + am(tau1 - 2 j1 K), whose sine and cosine are (-1)^j1 (sn, cn)(tau1).
+  const double j1 = std::round(tau1 / (2.0 * p.K));
+  const double flip = std::fmod(j1, 2.0) == 0.0 ? 1.0 : -1.0;
+  const double r1s = flip * e.sn, r1c = flip * e.cn;
+  const Reduced r1 = reduced_integrals(p, r1s, r1c);
+  // B(phi1) - B(phi0), the whole half periods apart from the rest.
+  const double dj = j1 - j0;
+  const double dtheta = std::atan2(p.sq * r1s, r1c) - std::atan2(p.sq * r0s, r0c);
+  const double half_periods = dj * (std::numbers::pi / p.sq - 2.0 * p.cG * p.Jc);
+  const double rest = dtheta / p.sq - p.cG * (r1.J - r0.J);
+  const double correction = p.a > 0.0 ? p.isr * (half_periods + rest) : 0.0;
+  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, correction, mP, dq,
+              axis);
+}
+
 }  // namespace
 
 void make_rotor_plan(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p) {
@@ -235,7 +308,10 @@ void make_rotor_plan(const RotorInertia& J, const Vec3& mP, double h, RotorPlan&
   p.X = X;
   if (p.still) return;
   const Rule* rule = single_panel_rule(std::abs(X));
-  if (rule == nullptr) return;  // p.n == 0: a long step, see advance_long
+  if (rule == nullptr) {  // p.n == 0: a long step, see advance_long
+    plan_closed(p);
+    return;
+  }
   const JacobiSeries series(p.m, std::abs(X));
   p.n = rule->n;
   for (int i = 0; i < rule->n; ++i) {
@@ -296,8 +372,8 @@ void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP,
     }
   }
   const Jacobi e = jacobi(tau0 + p.X, p.m, p.mc);
-  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, integral, mP, dq,
-              axis);
+  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, p.abG2 * integral, mP,
+              dq, axis);
 }
 
 }  // namespace
@@ -312,7 +388,11 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
   double s0, c0, d0;
   phase_of(p, x1, x2, x3, update == RotorUpdate::kIncrement, s0, c0, d0);
   if (p.n == 0) {
-    advance_long(p, s0, c0, d0, mP, dq, axis);
+    if (p.closed) {
+      advance_long_closed(p, s0, c0, d0, mP, dq, axis);
+    } else {
+      advance_long(p, s0, c0, d0, mP, dq, axis);
+    }
     return;
   }
   // Nodes at tau0 + x_i by the addition theorem, dn(u + v) = (dn u dn v - m sn u cn u sn v cn v)
@@ -335,7 +415,8 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
     const double sn1 = (s0 * p.C * p.D + p.S * c0 * d0) * inv;
     const double cn1 = (c0 * p.C - s0 * d0 * p.S * p.D) * inv;
     const double dn1 = (d0 * p.D - p.mSC * sc0) * inv;
-    finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, integral, mP, dq, axis);
+    finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, p.abG2 * integral, mP,
+                dq, axis);
   } else {
     // The same theorem written for the departures sn1 - sn0, ..., each numerator made of small
     // terms only: C D - 1 + e = Cm1 + Dm1 + Cm1 Dm1 + e, with e = m sn0^2 S^2 = 1 - den.
@@ -343,8 +424,8 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
     const double ds = (s0 * (cdm1 + e) + p.S * c0 * d0) * inv;
     const double dc = (c0 * (p.Cm1 + e) - s0 * d0 * p.S * p.D) * inv;
     const double dd = (d0 * (p.Dm1 + e) - p.mSC * sc0) * inv;
-    finish_step(p, s0, c0, d0, x1 + p.s * p.a * dc, x2 + p.b * ds, x3 + p.s * p.c * dd, integral,
-                mP, dq, axis);
+    finish_step(p, s0, c0, d0, x1 + p.s * p.a * dc, x2 + p.b * ds, x3 + p.s * p.c * dd,
+                p.abG2 * integral, mP, dq, axis);
   }
 }
 

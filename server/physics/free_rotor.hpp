@@ -12,9 +12,11 @@
 //  - the frame that takes m to the L axis is the minimal rotation, which makes the rate of psi
 //    an analytic function of dn alone, psi' = s (2T/G - a b lambda dn / (G (G + c dn))), regular
 //    for every motion including the pure spins;
-//  - the increment of psi is integrated by Gauss-Legendre quadrature with the node count chosen
-//    from the width of the function's strip of analyticity (its singularities lie at distance
-//    > K' >= pi/2 from the real axis), so the quadrature error is below round-off.
+//  - on short steps (|lambda h| <= 0.05) the increment of psi is integrated by Gauss-Legendre
+//    quadrature with the node count chosen from the width of the function's strip of analyticity
+//    (its singularities lie at distance > K' >= pi/2 from the real axis), so the quadrature error
+//    is below round-off; on long steps it is taken in closed form, Carlson's R_F and R_J at both
+//    ends (free_rotor.cpp, "Long steps"), at a cost that does not grow with the step.
 // Everything that depends only on the conserved |m|, energy and h is a RotorPlan, computed once
 // and reused for as long as no torque changes m: a torque-free body then costs one addition
 // theorem, a few quadrature nodes and two quaternion products per step.
@@ -52,11 +54,16 @@ struct RotorPlan {
   double X = 0;                                  // phase increment lambda h
   int n = 0;  // quadrature nodes cached here (0: a long step, evaluated directly)
   double w[4]{}, Dn[4]{}, mS2n[4]{}, mSCn[4]{};
+  // A long step's psi in closed form (free_rotor.cpp, "Long steps"): q = rho / r of the case,
+  // 1 / sqrt r, sqrt(1 + q), (q + m) / 3, K(m) and the complete J(pi/2). closed == false: the
+  // long step integrates psi panel by panel instead (near the separatrix, or q too large).
+  bool closed = false;
+  double q = 0, isr = 0, sq = 1, qm3 = 0, K = 0, Jc = 0;
 };
 
 // Builds the plan for a step of length h from momentum m (expressed in P). Any h: short steps
 // (|lambda h| <= 0.05) cache their quadrature nodes and use the addition theorem; long ones
-// evaluate the phase directly.
+// evaluate the phase directly and psi in closed form, at a cost that does not grow with h.
 void make_rotor_plan(const RotorInertia& J, const Vec3& m_P, double h, RotorPlan& p);
 
 // How advance_rotor forms the new momentum.

@@ -94,5 +94,54 @@ TEST(Jacobi, SeriesEvaluatorMatchesTheFunction) {
   }
 }
 
+// R_J from its definition, (3/2) int_0^inf dt / ((t + p) sqrt((t + x)(t + y)(t + z))), with
+// t = tau^2 (regular where an argument is zero) and tau = v / (1 - v), by composite 8-point
+// Gauss-Legendre in long double: an oracle independent of the duplication algorithm.
+double rj_by_quadrature(double x, double y, double z, double p) {
+  static constexpr long double kX[4] = {0.18343464249564980494L, 0.52553240991632898582L,
+                                        0.79666647741362673959L, 0.96028985649753623168L};
+  static constexpr long double kW[4] = {0.36268378337836198297L, 0.31370664587788728734L,
+                                        0.22238103445337447054L, 0.10122853629037625915L};
+  const auto f = [&](long double v) {
+    const long double tau = v / (1.0L - v), t = tau * tau;
+    const long double dtau = 1.0L / ((1.0L - v) * (1.0L - v));
+    return 2.0L * tau * dtau / ((t + p) * std::sqrt((t + x) * (t + y) * (t + z)));
+  };
+  const int panels = 4000;
+  long double sum = 0.0L;
+  for (int k = 0; k < panels; ++k) {
+    const long double mid = (k + 0.5L) / panels, half = 0.5L / panels;
+    for (int i = 0; i < 4; ++i)
+      sum += half * kW[i] * (f(mid - half * kX[i]) + f(mid + half * kX[i]));
+  }
+  return static_cast<double>(1.5L * sum);
+}
+
+TEST(Carlson, RjAgreesWithItsDefiningIntegral) {
+  const double args[][4] = {{0.0, 1.0, 2.0, 3.0}, {2.0, 3.0, 4.0, 5.0},  {1.0, 1.0, 1.0, 1.0},
+                            {0.0, 0.3, 1.0, 7.5}, {0.49, 0.02, 1.0, 65}, {0.9, 0.1, 1.0, 1.01},
+                            {4.0, 4.0, 4.0, 0.2}, {0.0, 1e-6, 1.0, 2.0}};
+  for (const auto& a : args) {
+    const double want = rj_by_quadrature(a[0], a[1], a[2], a[3]);
+    EXPECT_NEAR(carlson_rj(a[0], a[1], a[2], a[3]), want, 1e-14 * want)
+        << a[0] << ", " << a[1] << ", " << a[2] << ", " << a[3];
+  }
+}
+
+TEST(Carlson, RjSpecialValues) {
+  // R_J(x, x, x, x) = x^-3/2; homogeneity of degree -3/2; R_J(x, y, y, y) = R_D(x, y, y).
+  EXPECT_NEAR(carlson_rj(2.0, 2.0, 2.0, 2.0), std::pow(2.0, -1.5), 1e-16);
+  const double r = carlson_rj(0.3, 1.2, 2.0, 0.7);
+  EXPECT_NEAR(carlson_rj(0.3 * 9, 1.2 * 9, 2.0 * 9, 0.7 * 9), r / 27.0, 1e-16 * r);
+  // Pi(n; pi/2 | 0) = pi / (2 sqrt(1 - n)) for n < 1 (DLMF 19.6.3), with
+  // Pi(n; pi/2 | m) = K(m) + (n / 3) R_J(0, 1 - m, 1, 1 - n) (DLMF 19.25.14).
+  for (double n : {-50.0, -2.0, -0.3, 0.4}) {
+    const double k = carlson_rf(0.0, 1.0, 1.0), t = n / 3.0 * carlson_rj(0.0, 1.0, 1.0, 1.0 - n);
+    // For n << 0 the two terms cancel: the bound is relative to their sizes, not to the sum.
+    EXPECT_NEAR(k + t, std::numbers::pi / (2.0 * std::sqrt(1.0 - n)), 2e-16 * (k + std::abs(t)))
+        << n;
+  }
+}
+
 }  // namespace
 }  // namespace rigid::physics
