@@ -90,8 +90,9 @@ def headline_section(w):
         ", swept from 1/10 s so that they reach the peers' cheapest runs. The default alone: "
         f"**{'PASS' if t2_default else 'FAIL'}**" +
         ("" if t2_default else
-         " at the cheapest end, where the exact rotor's long steps cost more per simulated "
-         "second than a peer's 1/60 s step (its quadrature grows with the step; see the table)") +
+         " at the cheapest end, where a step of the default costs more per simulated second "
+         "than a peer's 1/60 s step (under torque each of its five stages plans a new exact "
+         "drift; free bodies' long steps cost the same as short ones; see the table)") +
         ". See [Target 2](#target-2-below-every-peer-curve).",
         f"3. **Measured order within 0.3 of theory for each of our methods on every smooth case: "
         f"{'PASS' if t3 else 'FAIL'}** on the {len(verdicts)} cells where an order can be "
