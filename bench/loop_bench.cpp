@@ -527,8 +527,8 @@ int run(const Options& o) {
   std::vector<std::unique_ptr<Probe>> probes;
   for (Bus bus : o.buses)
     probes.push_back(std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers));
-  std::vector<std::string> args{"--scene",  scene,  "--mode",      o.mode,
-                                "--prefix", prefix, "--transport", o.transport};
+  std::vector<std::string> args{"--scene", scene,         "--mode",    o.mode,     "--prefix",
+                                prefix,    "--transport", o.transport, "--verbose"};
   args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
   Daemon daemon(o.rigidd, args, dir / "rigidd.err");
   const auto start = std::chrono::steady_clock::now();

@@ -84,6 +84,9 @@ bool parse_bus_option(const ArgReader::Arg& arg, BusOptions& bus) {
           quoted(arg.value));
     }
     bus.lcm_url = std::string(arg.value);
+  } else if (arg.name == "--security") {
+    if (arg.value.empty()) throw UsageError("--security: expected an identity directory, got ''");
+    bus.security = std::string(arg.value);
   } else {
     return false;
   }
@@ -95,6 +98,8 @@ std::string_view bus_options_help() {
   --prefix P         the prefix rigidd runs with (P/rigid/state, P_RIGID_STATE)
   --dds-domain N     DDS domain id, 0 .. 232 (default 0); CYCLONEDDS_URI configures the network
   --lcm-url URL      LCM URL (default udpm://239.255.76.67:7667?ttl=0: stays on this host)
+  --security DIR     DDS Security: authenticate as the identity in DIR (rigid-keys add makes
+                     it); needed when rigidd runs with --security
 )";
 }
 

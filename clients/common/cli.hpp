@@ -33,7 +33,8 @@ struct BusOptions {
   transport::Bus bus = transport::Bus::kDds;
   std::string prefix;
   std::uint32_t dds_domain = 0;
-  std::string lcm_url;  // empty: the default (and a larger receive buffer for big states)
+  std::string lcm_url;   // empty: the default (and a larger receive buffer for big states)
+  std::string security;  // --security DIR: a DDS Security identity directory; empty: none
 };
 
 // "dds domain 0" or "lcm udpm://...", plus ", prefix P" when there is one: for messages.

@@ -25,6 +25,9 @@ std::unique_ptr<transport::Transport> connect(const BusOptions& o, transport::Ro
     d.role = role;
     d.domain = o.dds_domain;
     d.prefix = o.prefix;
+    d.security = o.security;
+    // DDS stays on loopback unless the user configured a network (CYCLONEDDS_URI).
+    (void)transport::dds::ensure_dds_config();
     return transport::dds::make_transport(d, receiver);
   }
   transport::lcm::Options l;
@@ -42,6 +45,23 @@ bool is_own_duplicate(const transport::ControlReply& r) {
   return r.outcome == transport::Outcome::kInvalid &&
          r.message.find("stale sequence number (the source's last one is " + std::to_string(r.seq) +
                         ")") != std::string::npos;
+}
+
+// rigidd's refusal of a copy of a wrench it had already accepted (a resend).
+bool is_own_duplicate_wrench(const transport::ControlReply& r) {
+  return r.message.find("stale_sequence") == 0 &&
+         r.message.find("is not above this session's last " + std::to_string(r.seq)) !=
+             std::string::npos;
+}
+
+transport::ControlReply not_permitted(const transport::ControlCommand& c, std::string why) {
+  transport::ControlReply r;
+  r.source = c.source;
+  r.seq = c.seq;
+  r.command = c.command;
+  r.outcome = transport::Outcome::kNotAllowed;
+  r.message = std::move(why);
+  return r;
 }
 
 }  // namespace
@@ -115,7 +135,11 @@ std::optional<transport::ControlReply> Session::request(transport::ControlComman
   control.seq = ++seq_;
   std::optional<transport::ControlReply> answer;
   while (Clock::now() < deadline) {
-    (void)transport_->publish(control);
+    if (transport_->publish(control) == transport::PublishResult::kNotPermitted) {
+      return not_permitted(control,
+                           "not permitted: this identity's permissions do not allow control "
+                           "(rigid-keys add ... --may control)");
+    }
     std::unique_lock lock(mutex_);
     const bool got =
         changed_.wait_until(lock, std::min(deadline, Clock::now() + kResendPeriod), [&] {
@@ -147,7 +171,8 @@ std::optional<transport::ControlReply> Session::request(transport::ControlComman
 }
 
 std::optional<transport::AcceptedCommand> Session::push(transport::WrenchCommand wrench,
-                                                        std::chrono::milliseconds patience) {
+                                                        std::chrono::milliseconds patience,
+                                                        std::string* refused) {
   const auto deadline = Clock::now() + patience;
   if (options_.bus == transport::Bus::kDds &&
       !wait_server(
@@ -157,8 +182,15 @@ std::optional<transport::AcceptedCommand> Session::push(transport::WrenchCommand
   wrench.source = source_;
   wrench.seq = ++seq_;
   std::optional<transport::AcceptedCommand> accepted;
+  std::optional<transport::ControlReply> refusal;
   while (Clock::now() < deadline) {
-    (void)transport_->publish(wrench);
+    if (transport_->publish(wrench) == transport::PublishResult::kNotPermitted) {
+      if (refused != nullptr) {
+        *refused = "not permitted: this identity's permissions do not allow pushing '" +
+                   wrench.body_name + "' (rigid-keys add ... --may push:BODY)";
+      }
+      return std::nullopt;
+    }
     std::unique_lock lock(mutex_);
     if (changed_.wait_until(lock, std::min(deadline, Clock::now() + kResendPeriod), [&] {
           for (const auto& a : acceptances_)
@@ -166,8 +198,14 @@ std::optional<transport::AcceptedCommand> Session::push(transport::WrenchCommand
               accepted = a;
               return true;
             }
+          for (const auto& r : wrench_refusals_)
+            if (r.seq == wrench.seq && !is_own_duplicate_wrench(r)) {
+              refusal = r;
+              return true;
+            }
           return false;
         })) {
+      if (refusal && refused != nullptr) *refused = refusal->message;
       return accepted;
     }
   }
@@ -177,7 +215,18 @@ std::optional<transport::AcceptedCommand> Session::push(transport::WrenchCommand
 std::int64_t Session::send(transport::WrenchCommand wrench) {
   wrench.source = source_;
   wrench.seq = ++seq_;
-  (void)transport_->publish(wrench);
+  if (transport_->publish(wrench) == transport::PublishResult::kNotPermitted) {
+    const std::lock_guard lock(mutex_);
+    ++wrenches_refused_;
+    transport::ControlReply r;
+    r.source = source_;
+    r.seq = wrench.seq;
+    r.command = transport::kReplyToWrench;
+    r.outcome = transport::Outcome::kNotAllowed;
+    r.message = "not permitted: this identity's permissions do not allow pushing '" +
+                wrench.body_name + "'";
+    last_refusal_ = r;
+  }
   return wrench.seq;
 }
 
@@ -220,9 +269,31 @@ void Session::on_control_reply(const transport::ControlReply& reply) {
   if (reply.source != source_) return;  // another client's
   {
     const std::lock_guard lock(mutex_);
-    replies_.push_back(reply);
+    if (reply.command == transport::kReplyToWrench) {
+      // Kept for push() and take_refusal(); bounded (rigidd answers a few a second at most).
+      if (!is_own_duplicate_wrench(reply)) {
+        ++wrenches_refused_;
+        last_refusal_ = reply;
+      }
+      if (wrench_refusals_.size() >= 64) wrench_refusals_.erase(wrench_refusals_.begin());
+      wrench_refusals_.push_back(reply);
+    } else {
+      replies_.push_back(reply);
+    }
   }
   changed_.notify_all();
+}
+
+std::optional<transport::ControlReply> Session::take_refusal() {
+  const std::lock_guard lock(mutex_);
+  std::optional<transport::ControlReply> r;
+  r.swap(last_refusal_);
+  return r;
+}
+
+std::int64_t Session::wrenches_refused() const {
+  const std::lock_guard lock(mutex_);
+  return wrenches_refused_;
 }
 
 void Session::on_accepted(const transport::AcceptedCommand& accepted) {

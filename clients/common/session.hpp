@@ -63,11 +63,18 @@ class Session final : public transport::Receiver {
   std::optional<transport::ControlReply> request(transport::ControlCommand control,
                                                  std::chrono::milliseconds patience);
   // Sends the wrench (source and seq filled in) and returns the server's acceptance of it, or
-  // nothing after `patience`: it was refused (rigidd's log and Stats say why) or never arrived.
+  // nothing: refused (rigidd's reason in *refused, at once) or no answer within `patience`
+  // (*refused left empty).
   std::optional<transport::AcceptedCommand> push(transport::WrenchCommand wrench,
-                                                 std::chrono::milliseconds patience);
-  // Publishes once with the next seq; no wait (a controller's stream of wrenches).
+                                                 std::chrono::milliseconds patience,
+                                                 std::string* refused = nullptr);
+  // Publishes once with the next seq; no wait (a controller's stream of wrenches). Refusals come
+  // back as rigidd answers them (take_refusal).
   std::int64_t send(transport::WrenchCommand wrench);
+  // The newest refusal of one of our wrenches since the last call (rigidd's reason in .message).
+  std::optional<transport::ControlReply> take_refusal();
+  // Our wrenches refused so far (as far as rigidd answered: at most a few a second).
+  std::int64_t wrenches_refused() const;
 
   // How long to wait before sending the same request again.
   static constexpr std::chrono::milliseconds kResendPeriod{1000};
@@ -89,8 +96,11 @@ class Session final : public transport::Receiver {
   std::uint64_t scene_generation_ = 0;
   std::optional<transport::StateFrame> state_;
   std::optional<transport::StatsReport> stats_;
-  std::vector<transport::ControlReply> replies_;         // ours only
-  std::vector<transport::AcceptedCommand> acceptances_;  // ours only
+  std::vector<transport::ControlReply> replies_;          // ours only
+  std::vector<transport::AcceptedCommand> acceptances_;   // ours only
+  std::vector<transport::ControlReply> wrench_refusals_;  // ours, the newest 64
+  std::optional<transport::ControlReply> last_refusal_;
+  std::int64_t wrenches_refused_ = 0;
   std::mutex handler_mutex_;  // guards the handlers and is held while one runs
   std::function<void(const transport::StateFrame&)> state_handler_;
   std::function<void(const transport::AcceptedCommand&)> accepted_handler_;

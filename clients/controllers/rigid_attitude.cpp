@@ -126,6 +126,7 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
   const auto publish = [&](const controllers::Thrusts& u, double wrench_ttl) {
     const auto& thrusters = target->law.thrusters().thrusters();
     w.body_id = target->id;
+    w.body_name = target->name;  // DDS Security sends it through that body's partition
     for (std::size_t i = 0; i < thrusters.size(); ++i) {
       const Vec3 f = u[i] * thrusters[i].axis_B;
       w.key = static_cast<std::int32_t>(i);
@@ -145,8 +146,30 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
   std::int64_t last_tick = -1;
   auto last_new_state = start;
   int status = clients::kExitOk;
+  // Refusals: each is told at once (rigidd answers a few a second at most); thrust that stays
+  // refused for kRefusedFor ends the run with a failure, so that nobody mistakes printed thrust
+  // for thrust that acts.
+  constexpr auto kRefusedFor = 2s;
+  std::optional<Clock::time_point> refused_since;
+  Clock::time_point last_refusal = start;
   for (;;) {
     const auto now = Clock::now();
+    if (const auto refusal = session.take_refusal()) {
+      std::fprintf(stderr, "rigid-attitude: rigidd refused a thrust command: %s\n",
+                   refusal->message.c_str());
+      if (!refused_since) refused_since = now;
+      last_refusal = now;
+    } else if (refused_since && now - last_refusal > 1s) {
+      refused_since.reset();  // accepted again
+    }
+    if (refused_since && now - *refused_since >= kRefusedFor) {
+      std::fprintf(stderr,
+                   "rigid-attitude: its commands have been refused for %.0f s: stopping (%lld "
+                   "refusals answered)\n",
+                   seconds(now - *refused_since),
+                   static_cast<long long>(session.wrenches_refused()));
+      return clients::kExitFailed;
+    }
     if (o.duration && seconds(now - start) >= *o.duration) {
       if (o.exit_when_settled && !settled) {
         std::printf("rigid-attitude: not settled within %g deg after %g s\n", o.settle_deg,

@@ -149,13 +149,25 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
         << scene->max_force << " N\n";
     return clients::kExitUsage;
   }
+  // rigidd would refuse it: say so at once, with the same reason (exit 1, like its refusal).
+  if (scene->max_ttl > 0 && o.for_seconds > scene->max_ttl) {
+    err << "rigidctl: push: refused: --for " << o.for_seconds
+        << " s is above the scene's max_ttl of " << scene->max_ttl << " s\n";
+    return kExitFailed;
+  }
   transport::WrenchCommand w;
   w.body_id = *body;
+  w.body_name = scene->names[static_cast<std::size_t>(*body)];
   w.force = o.force;
   w.point = o.point;
   w.force_frame = o.frame;
   w.ttl = o.for_seconds;
-  const auto accepted = session.push(w, o.timeout);
+  std::string refused;
+  const auto accepted = session.push(w, o.timeout, &refused);
+  if (!accepted && !refused.empty()) {
+    err << "rigidctl: push: refused by rigidd: " << refused << '\n';
+    return kExitFailed;
+  }
   if (!accepted) {
     err << "rigidctl: push: rigidd did not accept the wrench within "
         << fmt("%.3g", static_cast<double>(o.timeout.count()) / 1000.0) << " s on "
@@ -318,7 +330,8 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
 void print_stats(const transport::StatsReport& s, std::ostream& out) {
   const transport::RejectCounts& r = s.rejected;
   const std::int64_t refused = r.non_finite + r.unknown_body + r.over_limit + r.undecodable +
-                               r.stale_sequence + r.queue_full + r.invalid;
+                               r.stale_sequence + r.queue_full + r.invalid + r.over_share +
+                               r.rate_limited + r.not_permitted;
   out << fmt("tick %lld  t = %.3f s  %s%s  rtf %.4f (since start %.4f)\n",
              static_cast<long long>(s.tick), s.sim_time, std::string(mode_name(s.mode)).c_str(),
              s.paused ? " paused" : "", s.rtf_last_second, s.rtf_since_start)
@@ -331,12 +344,17 @@ void print_stats(const transport::StatsReport& s, std::ostream& out) {
              static_cast<long long>(s.large_rotation_steps))
       << fmt("  commands: accepted %lld, refused %lld (non_finite %lld, unknown_body %lld, "
              "over_limit %lld, undecodable %lld, stale_sequence %lld, queue_full %lld, invalid "
-             "%lld)\n",
+             "%lld, over_share %lld, rate_limited %lld, not_permitted %lld)\n",
              static_cast<long long>(s.commands_accepted), static_cast<long long>(refused),
              static_cast<long long>(r.non_finite), static_cast<long long>(r.unknown_body),
              static_cast<long long>(r.over_limit), static_cast<long long>(r.undecodable),
              static_cast<long long>(r.stale_sequence), static_cast<long long>(r.queue_full),
-             static_cast<long long>(r.invalid));
+             static_cast<long long>(r.invalid), static_cast<long long>(r.over_share),
+             static_cast<long long>(r.rate_limited), static_cast<long long>(r.not_permitted));
+  for (const transport::SourceRefusals& by : s.refused_by_source) {
+    out << fmt("  refused from %s: %lld (last: %s)\n", by.sender.c_str(),
+               static_cast<long long>(by.count), by.last_reason.c_str());
+  }
   for (const auto& [name, c] : {std::pair{"dds", s.dds}, std::pair{"lcm", s.lcm}}) {
     out << fmt("  %s: sent %lld, send failures %lld, received %lld, undecodable %lld\n", name,
                static_cast<long long>(c.sent), static_cast<long long>(c.send_failures),

@@ -1,5 +1,6 @@
 #include "loop/command.hpp"
 
+#include <cstring>
 #include <string>
 
 namespace rigid::loop {
@@ -20,6 +21,12 @@ std::string_view to_string(RejectReason reason) {
       return "queue_full";
     case RejectReason::kInvalid:
       return "invalid";
+    case RejectReason::kOverShare:
+      return "over_share";
+    case RejectReason::kRateLimited:
+      return "rate_limited";
+    case RejectReason::kNotPermitted:
+      return "not_permitted";
   }
   return "unknown";
 }
@@ -50,6 +57,13 @@ std::string_view to_string(ReplyNote note) {
       return "interrupted by reset";
     case ReplyNote::kQueueFull:
       return "dropped: the command queue is full";
+    case ReplyNote::kRateLimited:
+      return "refused: this sender is above its share of the command rate "
+             "(limits.max_commands_per_second)";
+    case ReplyNote::kNotPermitted:
+      return "not permitted: rigidd runs with --controls off, or this identity may not control";
+    case ReplyNote::kWrenchRefused:
+      return "refused";
   }
   return "";
 }
@@ -65,6 +79,9 @@ std::string reply_message(const Reply& reply) {
       break;
     case ReplyNote::kInterruptedByReset:
       text += " after " + std::to_string(reply.detail) + " ticks";
+      break;
+    case ReplyNote::kWrenchRefused:
+      text = std::string(reply.text, strnlen(reply.text, sizeof reply.text));
       break;
     default:
       break;

@@ -23,14 +23,29 @@ enum class RejectReason : std::uint8_t {
   kStaleSequence,  // sequence number not above the source's last one
   kQueueFull,      // no room: command queue or wrench table full (a flood)
   kInvalid,        // any other bad field (frame, ttl < 0, command, steps, rtf)
+  kOverShare,      // the sender already holds its share of the wrench table
+  kRateLimited,    // the sender is above its share of the command rate
+  kNotPermitted,   // body or control not permitted to the sender (security, --controls off)
 };
-inline constexpr int kRejectReasonCount = 7;
+inline constexpr int kRejectReasonCount = 10;
 std::string_view to_string(RejectReason reason);
 
 using Vec3 = std::array<double, 3>;
 
+// Who sent a command, as the loop accounts for it. The key is what shares (of the wrench table,
+// of the command rate) and refusal counts are kept by: with DDS Security the authenticated
+// identity, otherwise the client session (a DDS writer, an LCM socket), so that a sender cannot
+// pass for another by writing its source number. Fixed size: it travels in the command queue.
+struct Sender {
+  std::uint64_t key = 0;
+  char name[80] = {};  // printable: the identity, "dds:HANDLE" or "lcm:IP:PORT"
+};
+
 // A wrench that passed validation. body is a valid id; numbers are finite and within limits.
 struct Wrench {
+  // With DDS Security, the identity that wrote it (a hash; 0 without): part of the key of the
+  // wrench table, so that no identity can replace another's wrenches.
+  std::uint64_t owner = 0;
   std::int64_t source = 0;
   std::int64_t seq = 0;
   std::int32_t key = 0;
@@ -59,8 +74,12 @@ struct Command {
   Kind kind = Kind::kWrench;
   transport::Bus bus = transport::Bus::kDds;  // where it came from (a control is answered there)
   std::int64_t arrival_ns = 0;                // CLOCK_MONOTONIC when the intake received it
-  Wrench wrench;                              // kind == kWrench
-  Control control;                            // kind == kControl
+  Sender sender;
+  // Sequence numbers are kept per bus, client session and source (sequence_table.hpp), so a
+  // restarted or reconnected client, or one identity's traffic, never makes another's stale.
+  std::uint64_t session_key = 0;
+  Wrench wrench;    // kind == kWrench
+  Control control;  // kind == kControl
 };
 static_assert(std::is_trivially_copyable_v<Command>);
 
@@ -78,6 +97,9 @@ enum class ReplyNote : std::uint8_t {
   kStepInProgress,      // step while another is running
   kInterruptedByReset,  // a step cut short by reset
   kQueueFull,           // dropped: the command queue was full
+  kRateLimited,         // the sender is above its share of the command rate
+  kNotPermitted,        // controls are off, or the identity may not control
+  kWrenchRefused,       // the answer to a refused wrench: Reply::text says why
 };
 std::string_view to_string(ReplyNote note);
 
@@ -91,6 +113,7 @@ struct Reply {
   std::int64_t tick = 0;
   ReplyNote note = ReplyNote::kNone;
   std::int64_t detail = 0;  // a number the note refers to (the last sequence, the step count)
+  char text[200] = {};      // kWrenchRefused: the reason, as logged
 };
 static_assert(std::is_trivially_copyable_v<Reply>);
 

@@ -122,8 +122,8 @@ Checked<Wrench> CommandValidator::check(const transport::WrenchCommand& w) const
 
   Checked<Wrench> c;
   c.ok = true;
-  c.value = Wrench{w.source,      w.seq,    w.key,          body,  w.force,   w.point,
-                   w.force_frame, w.torque, w.torque_frame, w.ttl, w.stamp_ns};
+  c.value = Wrench{0,       w.source,      w.seq,    w.key,          body,  w.force,
+                   w.point, w.force_frame, w.torque, w.torque_frame, w.ttl, w.stamp_ns};
   return c;
 }
 

@@ -51,6 +51,9 @@ class CommandValidator {
   // 0 < rtf <= kMaxRtf). A refused control carries the reply note in `note`.
   Checked<Control> check(const transport::ControlCommand& control, ReplyNote* note) const;
 
+  const BodyDirectory& bodies() const { return bodies_; }
+  const scene::Limits& limits() const { return limits_; }
+
   static constexpr double kMaxRtf = 1000.0;
   static constexpr std::int64_t kMaxSteps = 1'000'000'000;
 

@@ -20,8 +20,9 @@ DrivenWorld::DrivenWorld(const physics::WorldSpec& spec, double tick_dt, int sub
   is_loaded_.assign(static_cast<std::size_t>(world_.body_count()), 0);
 }
 
-WrenchTable::Upsert DrivenWorld::apply(const Wrench& wrench) {
-  return wrenches_.upsert(wrench, tick_ + ticks_to_live(wrench.ttl, tick_dt_));
+WrenchTable::Upsert DrivenWorld::apply(const Wrench& wrench, std::uint64_t sender,
+                                       std::size_t share) {
+  return wrenches_.upsert(wrench, sender, share, tick_ + ticks_to_live(wrench.ttl, tick_dt_));
 }
 
 void DrivenWorld::clear_loaded() {

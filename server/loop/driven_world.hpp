@@ -23,7 +23,10 @@ class DrivenWorld {
 
   // A validated wrench: it acts from the next tick for ticks_to_live(ttl) ticks, replacing the
   // one with the same (source, body, key). kFull: a new key and no room; nothing changed.
-  WrenchTable::Upsert apply(const Wrench& wrench);
+  // Into the wrench table, against `sender`'s share (wrench_table.hpp). A replay (rigid-sim
+  // --replay) applies journaled wrenches with an unlimited share: they were accepted once.
+  WrenchTable::Upsert apply(const Wrench& wrench, std::uint64_t sender = 0,
+                            std::size_t share = SIZE_MAX);
   // One tick: loads the acting wrenches (in arrival order) into the world, runs `substeps`
   // physics steps, advances the tick and drops the wrenches that have expired. Allocation-free.
   void step_tick();

@@ -3,9 +3,11 @@
 #include <sys/prctl.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <span>
 
 #include "loop/clock.hpp"
+#include "loop/intake.hpp"
 #include "loop/state_conversion.hpp"
 #include "loop/state_hash.hpp"
 
@@ -177,28 +179,59 @@ void Loop::drain() {
 
 void Loop::handle(const Command& c) {
   if (c.kind == Command::Kind::kWrench) {
-    handle_wrench(c.wrench, c.arrival_ns);
+    handle_wrench(c);
   } else {
     handle_control(c);
   }
 }
 
-void Loop::handle_wrench(const Wrench& w, std::int64_t arrival_ns) {
+// The key sequence numbers are kept by: the sender's bus and session (and identity), and the
+// source it writes.
+static std::int64_t sequence_key(const Command& c, std::int64_t source) {
+  return static_cast<std::int64_t>(
+      mix64(c.session_key ^ mix64(static_cast<std::uint64_t>(source))));
+}
+
+void Loop::refuse_wrench(const Command& c, RejectReason reason, const char* detail) {
+  rejects_.record(reason, detail, &c.sender);
+  char why[200];
+  std::snprintf(why, sizeof why, "%.*s: %s", static_cast<int>(to_string(reason).size()),
+                to_string(reason).data(), detail);
+  answer_refused_wrench(output_, rejects_, c.bus, c.wrench.source, c.wrench.seq, c.sender, why,
+                        driven_.tick());
+}
+
+void Loop::handle_wrench(const Command& c) {
+  const Wrench& w = c.wrench;
+  const std::int64_t arrival_ns = c.arrival_ns;
   std::int64_t last = 0;
-  if (!wrench_sources_.accept(w.source, w.seq, &last)) {
-    rejects_.recordf(RejectReason::kStaleSequence,
-                     "wrench from source %lld: seq %lld is not above the source's last %lld",
-                     static_cast<long long>(w.source), static_cast<long long>(w.seq),
-                     static_cast<long long>(last));
+  char detail[200];
+  if (!wrench_sources_.accept(sequence_key(c, w.source), w.seq, &last)) {
+    std::snprintf(detail, sizeof detail,
+                  "wrench from %s source %lld: seq %lld is not above this session's last %lld",
+                  c.sender.name, static_cast<long long>(w.source), static_cast<long long>(w.seq),
+                  static_cast<long long>(last));
+    refuse_wrench(c, RejectReason::kStaleSequence, detail);
     return;
   }
-  if (driven_.apply(w) == WrenchTable::Upsert::kFull) {
-    rejects_.recordf(RejectReason::kQueueFull,
-                     "wrench table full (%zu live wrenches): wrench from source %lld seq %lld "
-                     "dropped",
-                     driven_.wrench_capacity(), static_cast<long long>(w.source),
-                     static_cast<long long>(w.seq));
-    return;
+  switch (driven_.apply(w, c.sender.key, config_.wrench_share)) {
+    case WrenchTable::Upsert::kFull:
+      std::snprintf(detail, sizeof detail,
+                    "wrench table full (%zu live wrenches, none held beyond a fair share): wrench "
+                    "from %s seq %lld dropped",
+                    driven_.wrench_capacity(), c.sender.name, static_cast<long long>(w.seq));
+      refuse_wrench(c, RejectReason::kQueueFull, detail);
+      return;
+    case WrenchTable::Upsert::kOverShare:
+      std::snprintf(detail, sizeof detail,
+                    "wrench from %s seq %lld: the sender already holds its %zu live wrenches "
+                    "(limits.max_wrenches_per_source)",
+                    c.sender.name, static_cast<long long>(w.seq), config_.wrench_share);
+      refuse_wrench(c, RejectReason::kOverShare, detail);
+      return;
+    case WrenchTable::Upsert::kInserted:
+    case WrenchTable::Upsert::kReplaced:
+      break;
   }
   JournalEntry entry;
   entry.kind = JournalEntry::Kind::kWrench;
@@ -226,10 +259,10 @@ void Loop::journal_control(const Control& k) {
 void Loop::handle_control(const Command& c) {
   const Control& k = c.control;
   std::int64_t last = 0;
-  if (!control_sources_.accept(k.source, k.seq, &last)) {
-    rejects_.recordf(RejectReason::kStaleSequence,
-                     "control from source %lld: seq %lld is not above the source's last %lld",
-                     static_cast<long long>(k.source), static_cast<long long>(k.seq),
+  if (!control_sources_.accept(sequence_key(c, k.source), k.seq, &last)) {
+    rejects_.recordf(RejectReason::kStaleSequence, &c.sender,
+                     "control from %s source %lld: seq %lld is not above this session's last %lld",
+                     c.sender.name, static_cast<long long>(k.source), static_cast<long long>(k.seq),
                      static_cast<long long>(last));
     answer(c, Outcome::kInvalid, ReplyNote::kStaleSequence, last);
     return;

@@ -52,6 +52,7 @@ struct LoopConfig {
   int publish_every = 1;
   std::size_t wrench_capacity = 4096;  // live (source, body, key) entries
   std::size_t source_capacity = 1024;  // sources whose sequence numbers are remembered
+  std::size_t wrench_share = 64;       // live wrenches one sender may hold (limits)
   // Realtime: sleep to this long before each deadline, then busy-wait to it. A sleeping thread
   // wakes tens of microseconds late on these machines (timer and scheduler latency in a VM); the
   // spin takes that out of tick lateness for spin_ns / period of one core. 0: sleep only.
@@ -94,7 +95,8 @@ class Loop {
   double period_ns() const;  // of the wall clock between ticks, at the real-time factor
   void drain();
   void handle(const Command& c);
-  void handle_wrench(const Wrench& w, std::int64_t arrival_ns);
+  void handle_wrench(const Command& c);
+  void refuse_wrench(const Command& c, RejectReason reason, const char* detail);
   void handle_control(const Command& c);
   void answer(const Command& c, transport::Outcome outcome, ReplyNote note = ReplyNote::kNone,
               std::int64_t detail = 0);

@@ -40,6 +40,7 @@ LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) 
   c.substeps = scene.substeps;
   c.publish_every = scene.publish_every;
   c.wrench_capacity = options.wrench_capacity;
+  c.wrench_share = static_cast<std::size_t>(scene.limits.max_wrenches_per_source);
   c.spin_ns = options.spin_ns;
   c.hash_states = !options.journal_path.empty();
   return c;
@@ -64,6 +65,32 @@ msgs::LogHeader journal_header(const scene::Scene& scene, const ServerOptions& o
   return h;
 }
 
+IntakePolicy intake_policy(const scene::Scene& scene, const ServerOptions& options) {
+  IntakePolicy p;
+  p.controls = options.controls;
+  p.secure = options.secure;
+  p.commands_per_second = scene.limits.max_commands_per_second;
+  return p;
+}
+
+// The CPU the real-time threads go to: the last one this process may run on (the first is where
+// interrupts and most other work land by default).
+int last_allowed_cpu() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return -1;
+  for (int cpu = CPU_SETSIZE - 1; cpu >= 0; --cpu)
+    if (CPU_ISSET(cpu, &set)) return cpu;
+  return -1;
+}
+
+bool pin(std::thread::native_handle_type thread, int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  return pthread_setaffinity_np(thread, sizeof set, &set) == 0;
+}
+
 std::size_t bus_index(transport::Bus bus) {
   return bus == transport::Bus::kDds ? 0 : 1;
 }
@@ -86,8 +113,10 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
       bodies_(body_names(scene)),
       validator_(bodies_, scene.limits),
       commands_(options.command_capacity),
-      dds_intake_(transport::Bus::kDds, validator_, commands_, doorbell_, rejects_, *this),
-      lcm_intake_(transport::Bus::kLcm, validator_, commands_, doorbell_, rejects_, *this),
+      dds_intake_(transport::Bus::kDds, validator_, intake_policy(scene, options), commands_,
+                  doorbell_, rejects_, *this),
+      lcm_intake_(transport::Bus::kLcm, validator_, intake_policy(scene, options), commands_,
+                  doorbell_, rejects_, *this),
       loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
   scene_info_ = describe_scene(scene, loop_.world());
   shape_state_frame(loop_.world(), shape_);
@@ -132,6 +161,17 @@ void Server::start() {
 }
 
 void Server::set_priorities() {
+  // First the CPU, then the priority: a real-time thread never runs unpinned.
+  loop_cpu_ = last_allowed_cpu();
+  if (loop_cpu_ >= 0 && !pin(loop_thread_.native_handle(), loop_cpu_)) loop_cpu_ = -1;
+  if (loop_cpu_ < 0) {
+    log_.line(
+        "loop thread: cannot pin it to one CPU: running at normal priority so that it can "
+        "never take more than one CPU from this host");
+    return;
+  }
+  for (auto& p : publishers_)
+    (void)pin(p->native_handle(), loop_cpu_);
   sched_param param{};
   param.sched_priority = options_.fifo_priority;
   const int error = pthread_setschedparam(loop_thread_.native_handle(), SCHED_FIFO, &param);
@@ -148,7 +188,9 @@ void Server::set_priorities() {
   for (auto& p : publishers_)
     publishers = pthread_setschedparam(p->native_handle(), SCHED_FIFO, &param) == 0 && publishers;
   log_.line("loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority) +
-            (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : ""));
+            (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : "") +
+            ", on CPU " + std::to_string(loop_cpu_) +
+            " (the real-time threads never take more than this CPU)");
 }
 
 void Server::stop() {
@@ -167,7 +209,7 @@ void Server::stop() {
   if (housekeeping_thread_.joinable()) housekeeping_thread_.join();
   for (auto& p : publishers_)
     p->stop();
-  rejects_.flush(log_);
+  rejects_.flush(log_, INT64_MAX);
   log_frozen_bodies();
 }
 
@@ -225,6 +267,7 @@ transport::StatsReport Server::make_stats(const LoopSummary& s) const {
     r.states_skipped += p->states_skipped();
   r.commands_accepted = loop_.commands_accepted();
   r.rejected = rejects_.counts();
+  r.refused_by_source = rejects_.top_senders();
   for (const auto& t : transports_) {
     (t->bus() == transport::Bus::kDds ? r.dds : r.lcm) = t->counts();
   }
@@ -242,9 +285,9 @@ void Server::housekeeping() {
     wake_.wait_for(lock, kPeriod, [this] { return stopping_; });
     if (stopping_) break;
     lock.unlock();
-    rejects_.flush(log_);
-    log_frozen_bodies();
     const std::int64_t now = monotonic_ns();
+    rejects_.flush(log_, now);
+    log_frozen_bodies();
     if (loop_.take_summary(summary)) {
       const transport::StatsReport stats = make_stats(summary);
       for (auto& t : transports_)

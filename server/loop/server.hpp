@@ -42,7 +42,9 @@ struct ServerOptions {
   std::size_t command_capacity = 1024;  // queued commands between the transports and the loop
   std::size_t wrench_capacity = 4096;   // live wrenches
   // Realtime mode: ask for SCHED_FIFO for the loop thread at fifo_priority and the publishers one
-  // below (needs CAP_SYS_NICE; logged either way).
+  // below (needs CAP_SYS_NICE; logged either way), all on one CPU (the last one this process may
+  // use), so that whatever rate a client asks for, rigidd's real-time threads take at most that
+  // CPU: the loop then falls behind (overruns, rtf in Stats) instead of starving the host.
   bool realtime_priority = true;
   int fifo_priority = 10;
   std::int64_t spin_ns = 100'000;  // LoopConfig::spin_ns
@@ -50,6 +52,10 @@ struct ServerOptions {
   // file's text, kept in it so that a replay can check it runs the same scene. Empty: no file.
   std::string journal_path;
   std::string scene_text;
+  // Control requests (pause, resume, step, reset, rate) accepted at all (rigidd --controls).
+  bool controls = true;
+  // DDS Security is on: only authenticated identities' commands count (intake.hpp).
+  bool secure = false;
 };
 
 class Server final : private LoopOutput {
@@ -93,6 +99,7 @@ class Server final : private LoopOutput {
   void log_frozen_bodies();
   transport::StatsReport make_stats(const LoopSummary& summary) const;
   void set_priorities();
+  int loop_cpu_ = -1;  // the CPU the real-time threads are pinned to, or -1
 
   Log& log_;
   const ServerOptions options_;

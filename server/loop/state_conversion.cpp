@@ -77,7 +77,10 @@ physics::Vec3 shape_dims(const physics::Shape& s) {
 transport::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
   transport::SceneDescription d;
   const physics::WorldSpec& spec = scene.world;
-  d.scene_name = scene.path;
+  // The path's tail if it is longer than the message allows (msgs/rigid.idl: string<256>).
+  d.scene_name = scene.path.size() < transport::kMaxMessageLength
+                     ? scene.path
+                     : scene.path.substr(scene.path.size() - (transport::kMaxMessageLength - 1));
   d.dt = 1.0 / scene.rate_hz;
   d.substeps = scene.substeps;
   d.publish_every = scene.publish_every;
@@ -85,6 +88,9 @@ transport::SceneDescription describe_scene(const scene::Scene& scene, const phys
   d.integrator = std::string(world.integrator().name);
   d.max_force = scene.limits.max_force;
   d.max_torque = scene.limits.max_torque;
+  d.max_ttl = scene.limits.max_ttl;
+  d.max_wrenches_per_source = scene.limits.max_wrenches_per_source;
+  d.max_commands_per_second = scene.limits.max_commands_per_second;
   const std::size_t n = spec.bodies.size();
   for (std::size_t i = 0; i < n; ++i) {
     const physics::BodySpec& b = spec.bodies[i];

@@ -49,8 +49,14 @@ std::string buses(const rigidd::RigiddOptions& o, const std::string& lcm_url) {
   if (o.dds) {
     text += "dds domain " + std::to_string(o.dds_domain);
     if (o.reliable_state) text += " (reliable state)";
+    text += o.security.empty() ? " (no security: trusts every process that reaches it)"
+                               : " (DDS Security, identity " + o.security + ")";
   }
-  if (o.lcm) text += std::string(text.empty() ? "" : ", ") + "lcm " + lcm_url;
+  if (o.lcm) {
+    text += std::string(text.empty() ? "" : ", ") + "lcm " + lcm_url +
+            " (no security: trusts every process that reaches it)";
+  }
+  if (!o.controls) text += ", controls off";
   if (!o.prefix.empty()) text += ", prefix " + o.prefix;
   return text;
 }
@@ -78,12 +84,22 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
     log.line(w);
   loop::ServerOptions server_options;
   server_options.mode = options.mode;
+  server_options.controls = options.controls;
+  server_options.secure = !options.security.empty();
   server_options.spin_ns = options.spin_us * 1000;
   if (!options.journal.empty()) {
     server_options.journal_path = options.journal;
     server_options.scene_text = scene_text(scene.path);
   }
   loop::Server server(scene, server_options, log);
+  // DDS stays on loopback unless a network is configured (CYCLONEDDS_URI).
+  const std::string dds_config = options.dds ? transport::dds::ensure_dds_config() : "";
+  if (options.dds) {
+    // Its own largest samples (a state: ~110 B a body; a scene: ~300 B a body) with room to
+    // spare, and at least 1 MiB: anything larger from outside is dropped before reassembly.
+    const std::size_t bodies = scene.world.bodies.size();
+    transport::dds::limit_sample_size(std::max<std::size_t>(1 << 20, 2 * (400 * bodies + 65536)));
+  }
   const std::string lcm_url =
       options.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : options.lcm_url;
   try {
@@ -93,6 +109,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
       o.domain = options.dds_domain;
       o.prefix = options.prefix;
       o.reliable_state = options.reliable_state;
+      o.security = options.security;
       server.add_transport(
           transport::dds::make_transport(o, server.receiver(transport::Bus::kDds)));
     }
@@ -112,7 +129,8 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   rigidd::SystemdNotifier systemd;
   server.start();
   log.line("started: " + describe(scene, options) + "; " + buses(options, lcm_url) +
-           (options.journal.empty() ? "" : "; journal " + options.journal));
+           (options.journal.empty() ? "" : "; journal " + options.journal) +
+           (options.dds ? "; " + dds_config : ""));
 
   bool ready = false;
   std::uint64_t last_beat = server.heartbeat();
@@ -143,7 +161,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   systemd.stopping();
   server.stop();
   log.line(server.closing_line());
-  log.line(server.lateness_histogram_line());
+  if (options.verbose) log.line(server.lateness_histogram_line());
   return 0;
 }
 

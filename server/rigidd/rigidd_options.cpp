@@ -62,6 +62,10 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       o.check = true;
       continue;
     }
+    if (arg == "--verbose") {
+      o.verbose = true;
+      continue;
+    }
     if (arg == "--reliable-state") {
       o.reliable_state = true;
       continue;
@@ -76,7 +80,8 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       value = arg.substr(eq + 1);
     }
     if (name != "--scene" && name != "--transport" && name != "--mode" && name != "--dds-domain" &&
-        name != "--lcm-url" && name != "--prefix" && name != "--spin-us" && name != "--journal") {
+        name != "--lcm-url" && name != "--prefix" && name != "--spin-us" && name != "--journal" &&
+        name != "--security" && name != "--controls") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -88,6 +93,7 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       o.scene = std::string(*value);
     } else if (name == "--transport") {
       parse_transports(*value, o);
+      o.transports_given = true;
     } else if (name == "--mode") {
       if (*value == "realtime") {
         o.mode = transport::Mode::kRealtime;
@@ -115,6 +121,17 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
     } else if (name == "--journal") {
       if (value->empty()) throw UsageError("--journal: expected a file name, got ''");
       o.journal = std::string(*value);
+    } else if (name == "--security") {
+      if (value->empty()) throw UsageError("--security: expected an identity directory, got ''");
+      o.security = std::string(*value);
+    } else if (name == "--controls") {
+      if (*value == "on") {
+        o.controls = true;
+      } else if (*value == "off") {
+        o.controls = false;
+      } else {
+        throw UsageError("--controls: expected on or off, got " + quoted(*value));
+      }
     } else if (name == "--lcm-url") {
       if (value->find("://") == std::string_view::npos) {
         throw UsageError(
@@ -129,6 +146,11 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       }
       o.prefix = std::string(*value);
     }
+  }
+  // Secure by default: with DDS Security, the unauthenticated LCM bus only if asked for.
+  if (!o.security.empty() && !o.transports_given) o.lcm = false;
+  if (!o.security.empty() && !o.dds) {
+    throw UsageError("--security applies to DDS, which --transport leaves out");
   }
   return o;
 }
@@ -147,7 +169,8 @@ std::string default_scene_path(const std::string& source_dir) {
 std::string usage() {
   return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
               [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
-              [--spin-us N] [--journal FILE] [--check]
+              [--spin-us N] [--journal FILE] [--security DIR] [--controls on|off]
+              [--verbose] [--check]
 
 Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
 and takes wrenches (forces at body points) and control requests from clients on both buses.
@@ -168,6 +191,14 @@ and takes wrenches (forces at body points) and control requests from clients on 
   --journal FILE     write every command accepted, with the tick at which it took effect, and
                      a hash of every state published to FILE (created; an existing file is
                      refused): rigid-sim --replay FILE re-runs the session bit for bit
+  --security DIR     DDS Security: authenticate with the identity directory DIR (rigid-keys add
+                     KEYSTORE rigidd --may serve makes one; rigid-keys init makes it for you);
+                     only authenticated identities then see the state or move a body, each
+                     command counts as its identity's, and LCM is off unless --transport names
+                     it (LCM has no security: it trusts every process that reaches it)
+  --controls on|off  accept pause, resume, step, reset and rate requests (default on). With
+                     --security only identities that may control can send them anyway
+  --verbose          also print the whole run's tick lateness histogram at exit
   --check            validate the command line and the scene, print a summary and exit
   -h, --help         show this help
 

@@ -17,6 +17,7 @@ struct RigiddOptions {
   std::optional<std::string> scene;  // --scene; unset: the default scene (default_scene_path)
   bool dds = true;                   // --transport
   bool lcm = true;
+  bool transports_given = false;  // --transport was on the command line
   transport::Mode mode = transport::Mode::kRealtime;
   std::uint32_t dds_domain = 0;
   std::string lcm_url;  // empty: transport::lcm::kDefaultUrl
@@ -24,6 +25,9 @@ struct RigiddOptions {
   bool reliable_state = false;
   std::int64_t spin_us = 100;  // realtime: busy-wait this long before each tick's deadline
   std::string journal;         // --journal FILE; empty: none
+  std::string security;        // --security DIR: DDS Security identity directory; empty: none
+  bool controls = true;        // --controls on|off
+  bool verbose = false;        // --verbose: the lateness histogram at exit
   bool check = false;
   bool help = false;
 };

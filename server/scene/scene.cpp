@@ -23,6 +23,7 @@
 #include "physics/world.hpp"
 #include "rigid.pb.h"
 #include "scene/text_location.hpp"
+#include "transport/messages.hpp"
 
 namespace rigid::scene {
 
@@ -225,6 +226,16 @@ class Loader {
     limit(l.has_max_force(), l.max_force(), "max_force", scene_.limits.max_force);
     limit(l.has_max_torque(), l.max_torque(), "max_torque", scene_.limits.max_torque);
     limit(l.has_max_ttl(), l.max_ttl(), "max_ttl", scene_.limits.max_ttl);
+    limit(l.has_max_commands_per_second(), l.max_commands_per_second(), "max_commands_per_second",
+          scene_.limits.max_commands_per_second);
+    if (l.has_max_wrenches_per_source()) {
+      if (l.max_wrenches_per_source() <= 0) {
+        fail(lnode.at("max_wrenches_per_source"),
+             "world: limits.max_wrenches_per_source must be > 0, got " +
+                 std::to_string(l.max_wrenches_per_source()));
+      }
+      scene_.limits.max_wrenches_per_source = l.max_wrenches_per_source();
+    }
   }
 
   void load_bodies() {
@@ -233,6 +244,11 @@ class Loader {
       const std::string& name = msg_.body(i).name();
       const TextNode node = body_node(i);
       if (name.empty()) fail(node.at("name"), body_label(i) + ": name must not be empty");
+      if (name.size() > kMaxBodyNameLength) {
+        fail(node.at("name"), body_label(i) + ": name is " + std::to_string(name.size()) +
+                                  " characters long; at most " +
+                                  std::to_string(kMaxBodyNameLength) + " travel on the buses");
+      }
       if (!std::all_of(name.begin(), name.end(), valid_name_char)) {
         fail(node.at("name"), body_label(i) +
                                   ": name may contain only letters, digits and _ . / -, got '" +

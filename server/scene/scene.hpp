@@ -17,11 +17,17 @@
 
 namespace rigid::scene {
 
+// The longest body name: names travel on the buses as bounded strings (msgs/rigid.idl,
+// string<128>; transport::kMaxNameLength).
+inline constexpr std::size_t kMaxBodyNameLength = 128;
+
 // Bounds the daemon enforces on commands from the network.
 struct Limits {
-  double max_force = 1e6;   // N
-  double max_torque = 1e6;  // N m
-  double max_ttl = 60.0;    // s
+  double max_force = 1e6;                 // N
+  double max_torque = 1e6;                // N m
+  double max_ttl = 60.0;                  // s
+  int max_wrenches_per_source = 64;       // live wrenches one sender may hold
+  double max_commands_per_second = 2000;  // per sender
 };
 
 struct Scene {

@@ -32,6 +32,9 @@ enum class ControlKind : std::int32_t {
 
 enum class Outcome : std::int32_t { kOk = 0, kInvalid = 1, kNotAllowed = 2, kFailed = 3 };
 
+// ControlReply.command of the answer to a refused wrench (msgs/rigid.idl REPLY_WRENCH).
+inline constexpr ControlKind kReplyToWrench = static_cast<ControlKind>(100);
+
 enum class Mode : std::int32_t { kRealtime = 0, kFast = 1, kLockstep = 2 };
 
 enum class ShapeKind : std::int32_t {
@@ -44,6 +47,16 @@ enum class ShapeKind : std::int32_t {
 };
 
 using Vec3 = std::array<double, 3>;
+
+// The bounds msgs/rigid.idl puts on what travels (a longer string or sequence is dropped by the
+// reader's deserializer on DDS, refused by the codecs on LCM).
+inline constexpr std::size_t kMaxBodies = 1'000'000;
+inline constexpr std::size_t kMaxNameLength = 128;     // body names, in scenes and on the wire
+inline constexpr std::size_t kMaxMessageLength = 256;  // ControlReply.message, scene_name
+inline constexpr std::size_t kMaxIntegratorLength = 64;
+inline constexpr std::size_t kMaxRefusedSources = 16;  // StatsReport.refused_by_source
+inline constexpr std::size_t kMaxSenderLength = 80;
+inline constexpr std::size_t kMaxReasonLength = 24;
 
 // One published state of the world (server -> all).
 struct StateFrame {
@@ -151,8 +164,20 @@ struct RejectCounts {
   std::int64_t stale_sequence = 0;
   std::int64_t queue_full = 0;
   std::int64_t invalid = 0;
+  std::int64_t over_share = 0;
+  std::int64_t rate_limited = 0;
+  std::int64_t not_permitted = 0;
 
   bool operator==(const RejectCounts&) const = default;
+};
+
+// One of the senders with the most refused commands (StatsReport.refused_by_source).
+struct SourceRefusals {
+  std::string sender;       // identity, or bus and session ("dds:1f2e...", "lcm:127.0.0.1:40000")
+  std::int64_t count = 0;   // refused since start
+  std::string last_reason;  // a RejectCounts field name
+
+  bool operator==(const SourceRefusals&) const = default;
 };
 
 // The traffic of one bus.
@@ -186,6 +211,7 @@ struct StatsReport {
   RejectCounts rejected;
   TransportCounts dds;
   TransportCounts lcm;
+  std::vector<SourceRefusals> refused_by_source;  // at most kMaxRefusedSources, most first
 
   bool operator==(const StatsReport&) const = default;
 };
@@ -200,6 +226,9 @@ struct SceneDescription {
   std::string integrator;
   double max_force = 0.0;  // <= 0: unlimited
   double max_torque = 0.0;
+  double max_ttl = 0.0;                      // s
+  std::int32_t max_wrenches_per_source = 0;  // live wrenches one sender may hold
+  double max_commands_per_second = 0.0;      // per sender
   std::vector<std::int32_t> ids;
   std::vector<std::string> names;
   std::vector<double> masses;

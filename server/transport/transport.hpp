@@ -3,8 +3,10 @@
 // the program sees only this and messages.hpp.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "transport/decode_status.hpp"
 #include "transport/messages.hpp"
@@ -15,6 +17,20 @@ namespace rigid::transport {
 // control replies and receives wrenches and controls; a client does the opposite.
 enum class Role : std::uint8_t { kServer, kClient };
 
+// Who sent a command, as far as its bus can tell. Only valid during the callback.
+struct Origin {
+  // The sending endpoint: on DDS the writer's instance handle (one per client transport), on LCM
+  // the sender's UDP address and port (one per lcm_t). A restarted client is a new session.
+  std::uint64_t session = 0;
+  // With DDS Security: the authenticated identity that wrote the command, taken from the writer's
+  // partition (push/IDENTITY/BODY, control/IDENTITY), which access control lets only that
+  // identity use. Empty without security.
+  std::string_view identity;
+  // With DDS Security, for a wrench: the one body its writer's partition permits. Empty otherwise.
+  std::string_view permitted_body;
+  bool authenticated = false;  // identity is set (DDS Security)
+};
+
 // Called on the transport's receive thread (one per transport), one message at a time. The message
 // is only valid during the call: the transport reuses its storage for the next one, so that
 // receiving allocates nothing once the buffers have grown. A receiver shared by two transports is
@@ -23,8 +39,8 @@ class Receiver {
  public:
   virtual ~Receiver() = default;
   // Server role.
-  virtual void on_wrench(const WrenchCommand& /*wrench*/) {}
-  virtual void on_control(const ControlCommand& /*control*/) {}
+  virtual void on_wrench(const WrenchCommand& /*wrench*/, const Origin& /*origin*/) {}
+  virtual void on_control(const ControlCommand& /*control*/, const Origin& /*origin*/) {}
   // Client role.
   virtual void on_state(const StateFrame& /*state*/) {}
   virtual void on_stats(const StatsReport& /*stats*/) {}
@@ -37,9 +53,10 @@ class Receiver {
 
 enum class PublishResult : std::uint8_t {
   kOk = 0,
-  kWrongRole,  // this transport's role does not publish that message
-  kInvalid,    // the message's per-body arrays disagree with its body count
-  kFailed,     // the bus refused it (counted in counts().send_failures)
+  kWrongRole,     // this transport's role does not publish that message
+  kInvalid,       // the message's per-body arrays disagree with its body count
+  kFailed,        // the bus refused it (counted in counts().send_failures)
+  kNotPermitted,  // DDS Security: this identity's permissions do not allow it (that body, control)
 };
 
 // Setting a transport up failed: the message is one line naming the bus, the resource and what to

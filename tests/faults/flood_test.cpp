@@ -21,7 +21,7 @@ const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
 std::int64_t accounted(const transport::StatsReport& s) {
   const transport::RejectCounts& r = s.rejected;
   return s.commands_accepted + r.non_finite + r.unknown_body + r.over_limit + r.stale_sequence +
-         r.queue_full + r.invalid;
+         r.queue_full + r.invalid + r.over_share + r.rate_limited + r.not_permitted;
 }
 
 std::int64_t received(const transport::StatsReport& s, Bus bus) {
@@ -71,7 +71,8 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   ASSERT_TRUE(reply) << "no answer to 4 controls during the flood";
   // Answered either way: carried out, or dropped with the queue full (and counted).
   EXPECT_TRUE(reply->outcome == transport::Outcome::kOk ||
-              reply->message == "dropped: the command queue is full")
+              reply->message == "dropped: the command queue is full" ||
+              reply->message.starts_with("refused: this sender is above its share"))
       << reply->message;
 
   // Once rigidd has taken in what was on its way, the counts settle and add up.
@@ -89,7 +90,10 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   EXPECT_LE(got, sent + 4);  // the flood and the controls
   EXPECT_EQ(accounted(*after) - accounted(*before), got)
       << "accepted " << after->commands_accepted - before->commands_accepted << ", queue_full "
-      << after->rejected.queue_full - before->rejected.queue_full;
+      << after->rejected.queue_full - before->rejected.queue_full << ", rate_limited "
+      << after->rejected.rate_limited - before->rejected.rate_limited;
+  // One sender flooding: it is held to its share of the command rate (limits), the rest refused.
+  EXPECT_GT(after->rejected.rate_limited - before->rejected.rate_limited, got / 2);
   EXPECT_EQ(after->rejected.non_finite + after->rejected.invalid + after->rejected.unknown_body, 0);
 
   // Still ticking and publishing.

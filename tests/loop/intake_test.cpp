@@ -26,7 +26,14 @@ class IntakeTest : public ::testing::Test {
       : bodies_({"a", "b"}),
         validator_(bodies_, scene::Limits{}),
         queue_(4),
-        intake_(transport::Bus::kLcm, validator_, queue_, doorbell_, rejects_, replies_) {}
+        intake_(transport::Bus::kLcm, validator_, IntakePolicy{}, queue_, doorbell_, rejects_,
+                replies_) {}
+
+  static transport::Origin session(std::uint64_t s) {
+    transport::Origin o;
+    o.session = s;
+    return o;
+  }
 
   static transport::WrenchCommand wrench(std::int64_t seq) {
     transport::WrenchCommand w;
@@ -48,12 +55,12 @@ class IntakeTest : public ::testing::Test {
 
 TEST_F(IntakeTest, ValidCommandsAreQueuedWithTheirBusAndRingTheDoorbell) {
   const std::uint32_t before = doorbell_.count();
-  intake_.on_wrench(wrench(1));
+  intake_.on_wrench(wrench(1), session(7));
   transport::ControlCommand c;
   c.source = 2;
   c.seq = 1;
   c.command = transport::ControlKind::kPause;
-  intake_.on_control(c);
+  intake_.on_control(c, session(7));
   EXPECT_EQ(doorbell_.count(), before + 2);
   Command out;
   ASSERT_TRUE(queue_.try_pop(out));
@@ -69,14 +76,14 @@ TEST_F(IntakeTest, ValidCommandsAreQueuedWithTheirBusAndRingTheDoorbell) {
 TEST_F(IntakeTest, RefusalsAreCountedByReasonAndTheFirstOfEachIsLogged) {
   transport::WrenchCommand w = wrench(1);
   w.force[0] = std::numeric_limits<double>::quiet_NaN();
-  intake_.on_wrench(w);
-  intake_.on_wrench(w);
+  intake_.on_wrench(w, session(7));
+  intake_.on_wrench(w, session(7));
   w = wrench(2);
   w.body_id = 9;
-  intake_.on_wrench(w);
+  intake_.on_wrench(w, session(7));
   w = wrench(3);
   w.force = {2e6, 0, 0};
-  intake_.on_wrench(w);
+  intake_.on_wrench(w, session(7));
   intake_.on_decode_error(
       {transport::Bus::kLcm, transport::Topic::kWrench, transport::DecodeStatus::kTruncated, 5});
   const transport::RejectCounts c = rejects_.counts();
@@ -88,28 +95,47 @@ TEST_F(IntakeTest, RefusalsAreCountedByReasonAndTheFirstOfEachIsLogged) {
   EXPECT_FALSE(queue_.try_pop(out));  // none reached the loop
 
   MemoryLog log;
-  rejects_.flush(log);
+  rejects_.flush(log, 0);
   const std::vector<std::string> lines = log.lines();
-  ASSERT_EQ(lines.size(), 4u);  // one per reason, not per refusal
+  // One per reason, and one line summing up the rest (the second non-finite one).
+  ASSERT_EQ(lines.size(), 5u);
   EXPECT_NE(lines[0].find("rejected non_finite: wrench from source 1 seq 1: force (nan"),
             std::string::npos)
       << lines[0];
   EXPECT_NE(lines[3].find("undecodable: lcm payload on wrench (5 bytes): truncated"),
             std::string::npos)
       << lines[3];
-  rejects_.flush(log);
-  EXPECT_EQ(log.lines().size(), 4u);  // logged once
+  EXPECT_NE(lines[4].find("refused 1 command(s) since the last report (non_finite 1); most from "
+                          "lcm:0.0.0.0:7"),
+            std::string::npos)
+      << lines[4];
+  rejects_.flush(log, 500'000'000);
+  EXPECT_EQ(log.lines().size(), 5u);  // logged once
+  // Counted by sender, too (the undecodable payload has none).
+  const std::vector<transport::SourceRefusals> top = rejects_.top_senders();
+  ASSERT_EQ(top.size(), 1u);
+  EXPECT_EQ(top[0].sender, "lcm:0.0.0.0:7");
+  EXPECT_EQ(top[0].count, 4);
+  EXPECT_EQ(top[0].last_reason, "over_limit");
 }
 
 TEST_F(IntakeTest, AFloodFillsTheQueueAndDropsAreCounted) {
   for (int i = 1; i <= 10; ++i)
-    intake_.on_wrench(wrench(i));
+    intake_.on_wrench(wrench(i), session(7));
   EXPECT_EQ(rejects_.counts().queue_full, 10 - 4);
+  // Each dropped wrench is answered, at most RejectCounters::kRepliesPerSecond a second.
+  ASSERT_EQ(replies_.replies.size(), static_cast<std::size_t>(RejectCounters::kRepliesPerSecond));
+  EXPECT_EQ(replies_.replies[0].kind, transport::kReplyToWrench);
+  EXPECT_EQ(replies_.replies[0].seq, 5);
+  EXPECT_NE(reply_message(replies_.replies[0]).find("queue_full: command queue full (4)"),
+            std::string::npos)
+      << reply_message(replies_.replies[0]);
+  replies_.replies.clear();
   transport::ControlCommand c;
   c.source = 2;
   c.seq = 1;
   c.command = transport::ControlKind::kReset;
-  intake_.on_control(c);
+  intake_.on_control(c, session(7));
   EXPECT_EQ(rejects_.counts().queue_full, 10 - 4 + 1);
   // A dropped control is still answered.
   ASSERT_EQ(replies_.replies.size(), 1u);
@@ -123,7 +149,7 @@ TEST_F(IntakeTest, ARefusedControlIsAnsweredOnItsBus) {
   c.seq = 77;
   c.command = transport::ControlKind::kStep;
   c.steps = -3;
-  intake_.on_control(c);
+  intake_.on_control(c, session(7));
   ASSERT_EQ(replies_.replies.size(), 1u);
   const Reply& r = replies_.replies[0];
   EXPECT_EQ(r.bus, transport::Bus::kLcm);
@@ -132,6 +158,79 @@ TEST_F(IntakeTest, ARefusedControlIsAnsweredOnItsBus) {
   EXPECT_EQ(r.outcome, transport::Outcome::kInvalid);
   EXPECT_EQ(reply_message(r), "steps must be >= 1 and <= 1000000000");
   EXPECT_EQ(rejects_.counts().invalid, 1);
+}
+
+TEST_F(IntakeTest, ASenderAboveItsRateIsRefusedAndOthersAreNot) {
+  scene::Limits limits;
+  limits.max_commands_per_second = 100;  // a burst of 50 passes at once
+  CommandValidator validator(bodies_, limits);
+  IntakePolicy policy;
+  policy.commands_per_second = limits.max_commands_per_second;
+  BoundedQueue<Command> queue(1000);
+  Intake intake(transport::Bus::kDds, validator, policy, queue, doorbell_, rejects_, replies_);
+  for (int i = 1; i <= 80; ++i)
+    intake.on_wrench(wrench(i), session(1));
+  EXPECT_GE(rejects_.counts().rate_limited, 29);  // 80 - 50, less what the clock refilled
+  EXPECT_LE(rejects_.counts().rate_limited, 30);
+  // Another session (a restarted controller, another process) has its own share.
+  for (int i = 1; i <= 50; ++i)
+    intake.on_wrench(wrench(i), session(2));
+  EXPECT_LE(rejects_.counts().rate_limited, 30);
+  const std::vector<transport::SourceRefusals> top = rejects_.top_senders();
+  ASSERT_EQ(top.size(), 1u);
+  EXPECT_EQ(top[0].sender, "dds:0000000000000001");
+  EXPECT_EQ(top[0].last_reason, "rate_limited");
+}
+
+TEST_F(IntakeTest, ControlsOffAreRefusedAndAnswered) {
+  IntakePolicy policy;
+  policy.controls = false;
+  Intake intake(transport::Bus::kLcm, validator_, policy, queue_, doorbell_, rejects_, replies_);
+  transport::ControlCommand c;
+  c.source = 2;
+  c.seq = 1;
+  c.command = transport::ControlKind::kPause;
+  intake.on_control(c, session(3));
+  Command out;
+  EXPECT_FALSE(queue_.try_pop(out));
+  EXPECT_EQ(rejects_.counts().not_permitted, 1);
+  ASSERT_EQ(replies_.replies.size(), 1u);
+  EXPECT_EQ(replies_.replies[0].outcome, transport::Outcome::kNotAllowed);
+  EXPECT_EQ(replies_.replies[0].note, ReplyNote::kNotPermitted);
+  // Wrenches still pass.
+  intake.on_wrench(wrench(1), session(3));
+  EXPECT_TRUE(queue_.try_pop(out));
+}
+
+TEST_F(IntakeTest, WithSecurityOnlyAnAuthenticatedWriterOfThatBodyPushesIt) {
+  IntakePolicy policy;
+  policy.secure = true;
+  Intake intake(transport::Bus::kDds, validator_, policy, queue_, doorbell_, rejects_, replies_);
+  transport::Origin plain = session(4);  // no identity: not from a push/IDENTITY/BODY writer
+  intake.on_wrench(wrench(1), plain);
+  transport::Origin alice = session(5);
+  alice.authenticated = true;
+  alice.identity = "alice";
+  alice.permitted_body = "b";
+  intake.on_wrench(wrench(2), alice);  // body 0 is "a"
+  EXPECT_EQ(rejects_.counts().not_permitted, 2);
+  Command out;
+  EXPECT_FALSE(queue_.try_pop(out));
+  transport::WrenchCommand to_b = wrench(3);
+  to_b.body_id = 1;
+  intake.on_wrench(to_b, alice);
+  ASSERT_TRUE(queue_.try_pop(out));
+  EXPECT_EQ(std::string(out.sender.name), "alice");
+  EXPECT_NE(out.wrench.owner, 0u);
+  // Two sessions of one identity share its key; another identity has another.
+  transport::Origin alice2 = alice;
+  alice2.session = 6;
+  transport::Origin bob = alice;
+  bob.identity = "bob";
+  EXPECT_EQ(sender_of(transport::Bus::kDds, alice).key,
+            sender_of(transport::Bus::kDds, alice2).key);
+  EXPECT_NE(sender_of(transport::Bus::kDds, alice).key, sender_of(transport::Bus::kDds, bob).key);
+  EXPECT_NE(owner_of(alice), owner_of(bob));
 }
 
 }  // namespace

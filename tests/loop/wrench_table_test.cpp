@@ -25,9 +25,9 @@ TEST(TicksToLive, RoundsUpButForgivesRoundOff) {
 
 TEST(WrenchTable, SameKeyReplacesInPlace) {
   WrenchTable t(8);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 2.0), 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 3.0), 20), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 2.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 3.0), 0, SIZE_MAX, 20), WrenchTable::Upsert::kReplaced);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t.active()[0].wrench.force[0], 3.0);  // kept its place
   EXPECT_EQ(t.active()[0].expires_at_tick, 20);
@@ -36,25 +36,25 @@ TEST(WrenchTable, SameKeyReplacesInPlace) {
 
 TEST(WrenchTable, DifferentSourceBodyOrKeyAreDifferentEntries) {
   WrenchTable t(8);
-  t.upsert(wrench(1, 0, 0, 1.0), 10);
-  t.upsert(wrench(1, 1, 0, 1.0), 10);
-  t.upsert(wrench(1, 0, 1, 1.0), 10);
-  t.upsert(wrench(2, 0, 0, 1.0), 10);
+  t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 10);
+  t.upsert(wrench(1, 1, 0, 1.0), 0, SIZE_MAX, 10);
+  t.upsert(wrench(1, 0, 1, 1.0), 0, SIZE_MAX, 10);
+  t.upsert(wrench(2, 0, 0, 1.0), 0, SIZE_MAX, 10);
   EXPECT_EQ(t.size(), 4u);
 }
 
 TEST(WrenchTable, EntriesExpireWhenTheTickReachesTheirEnd) {
   WrenchTable t(8);
-  t.upsert(wrench(1, 0, 0, 1.0), 3);
-  t.upsert(wrench(2, 0, 0, 2.0), 5);
-  t.upsert(wrench(3, 0, 0, 3.0), 4);
+  t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 3);
+  t.upsert(wrench(2, 0, 0, 2.0), 0, SIZE_MAX, 5);
+  t.upsert(wrench(3, 0, 0, 3.0), 0, SIZE_MAX, 4);
   EXPECT_EQ(t.expire(2), 0u);
   EXPECT_EQ(t.expire(3), 1u);
   ASSERT_EQ(t.size(), 2u);
   // Survivors keep their order, and stay findable after moving.
   EXPECT_EQ(t.active()[0].wrench.source, 2);
   EXPECT_EQ(t.active()[1].wrench.source, 3);
-  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 30.0), 9), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 30.0), 0, SIZE_MAX, 9), WrenchTable::Upsert::kReplaced);
   EXPECT_EQ(t.active()[1].wrench.force[0], 30.0);
   EXPECT_EQ(t.expire(100), 2u);
   EXPECT_EQ(t.size(), 0u);
@@ -63,12 +63,12 @@ TEST(WrenchTable, EntriesExpireWhenTheTickReachesTheirEnd) {
 TEST(WrenchTable, FullTableRefusesNewKeysButAcceptsReplacements) {
   WrenchTable t(3);
   for (int k = 0; k < 3; ++k)
-    EXPECT_EQ(t.upsert(wrench(1, 0, k, 1.0), 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 10), WrenchTable::Upsert::kFull);
+    EXPECT_EQ(t.upsert(wrench(1, 0, k, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kFull);
   EXPECT_EQ(t.size(), 3u);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 1, 5.0), 10), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 1, 5.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kReplaced);
   t.expire(10);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 20), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 20), WrenchTable::Upsert::kInserted);
 }
 
 TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
@@ -77,7 +77,7 @@ TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
   std::int64_t tick = 0;
   for (int round = 0; round < 2000; ++round) {
     const int key = (round * 7919) % 97;
-    t.upsert(wrench(key % 5, key % 3, key, round), tick + 1 + round % 13);
+    t.upsert(wrench(key % 5, key % 3, key, round), 0, SIZE_MAX, tick + 1 + round % 13);
     if (round % 3 == 0) t.expire(++tick);
     for (const ActiveWrench& e : t.active()) {
       int same = 0;
@@ -89,7 +89,59 @@ TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
   }
   t.clear();
   EXPECT_EQ(t.size(), 0u);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 1), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 1), WrenchTable::Upsert::kInserted);
+}
+
+TEST(WrenchTable, EachSenderHoldsAtMostItsShareAndANewcomerAlwaysGetsIn) {
+  WrenchTable t(8);
+  // Sender 1 floods with distinct keys: it gets its share of 5, no more.
+  int accepted = 0;
+  for (int key = 0; key < 20; ++key) {
+    const WrenchTable::Upsert u = t.upsert(wrench(1, 0, key, 1.0), 1, 5, 100);
+    if (u == WrenchTable::Upsert::kInserted) ++accepted;
+    if (key >= 5) {
+      EXPECT_EQ(u, WrenchTable::Upsert::kOverShare);
+    }
+  }
+  EXPECT_EQ(accepted, 5);
+  EXPECT_EQ(t.held_by(1), 5u);
+  // Replacing one of its own keys is always allowed.
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 2.0), 1, 5, 100), WrenchTable::Upsert::kReplaced);
+  // Senders 2 and 3 fill the table (8 entries: 5 + 3).
+  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 1, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.size(), 8u);
+  // A newcomer takes the oldest entry of the sender holding the most (1), not a refusal.
+  EXPECT_EQ(t.upsert(wrench(4, 0, 0, 1.0), 4, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.held_by(1), 4u);
+  EXPECT_EQ(t.held_by(4), 1u);
+  EXPECT_EQ(t.size(), 8u);
+  // The evicted one was sender 1's oldest (key 0, replaced above but first in arrival order).
+  bool key0 = false;
+  for (const ActiveWrench& e : t.active())
+    key0 = key0 || (e.sender == 1 && e.wrench.key == 0);
+  EXPECT_FALSE(key0);
+  // When every sender holds about as many, the table is full for real.
+  WrenchTable even(2);
+  EXPECT_EQ(even.upsert(wrench(1, 0, 0, 1.0), 1, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(even.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(even.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), WrenchTable::Upsert::kFull);
+  // Expiry gives the share back.
+  t.expire(100);
+  EXPECT_EQ(t.size(), 0u);
+  EXPECT_EQ(t.held_by(1), 0u);
+}
+
+TEST(WrenchTable, OwnersNeverReplaceEachOthersWrenches) {
+  WrenchTable t(4);
+  Wrench a = wrench(1, 0, 0, 1.0);
+  a.owner = 11;
+  Wrench b = a;
+  b.owner = 22;  // another identity writing the same source, body and key
+  EXPECT_EQ(t.upsert(a, 11, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(b, 22, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.size(), 2u);
 }
 
 }  // namespace

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<Transport> client;
   try {
     if (bus == "dds") {
-      client = dds::make_transport({Role::kClient, 0, argv[2], false}, inbox);
+      client = dds::make_transport({Role::kClient, 0, argv[2], false, ""}, inbox);
     } else {
       lcm::Options options{Role::kClient, std::string(lcm::kDefaultUrl) + "&recv_buf_size=4194304",
                            argv[2]};

@@ -32,8 +32,10 @@ constexpr auto kPatience = 10s;
 // Keeps the last message of each kind; the test thread waits for one that satisfies it.
 class Mailbox final : public Receiver {
  public:
-  void on_wrench(const WrenchCommand& m) override { store(wrench_, m); }
-  void on_control(const ControlCommand& m) override { store(control_, m); }
+  void on_wrench(const WrenchCommand& m, const Origin& /*origin*/) override { store(wrench_, m); }
+  void on_control(const ControlCommand& m, const Origin& /*origin*/) override {
+    store(control_, m);
+  }
   void on_state(const StateFrame& m) override { store(state_, m); }
   void on_stats(const StatsReport& m) override { store(stats_, m); }
   void on_scene(const SceneDescription& m) override { store(scene_, m); }

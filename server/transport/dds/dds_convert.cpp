@@ -2,14 +2,12 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <limits>
 #include <string>
 
 namespace rigid::transport::dds {
 namespace {
-
-// The largest multiple of n any rigid sequence has is 6n; DDS lengths are uint32.
-constexpr std::size_t kMaxBodies = std::numeric_limits<std::uint32_t>::max() / 6;
 
 // The writer only reads the buffer, so lending a const vector's storage is safe; _release = false
 // tells Cyclone it does not own it.
@@ -21,10 +19,6 @@ void lend(const std::vector<T>& in, Seq& out) {
   out._release = false;
 }
 
-char* lend(const std::string& in) {
-  return const_cast<char*>(in.c_str());
-}
-
 template <class T, class Seq>
 void copy_seq(const Seq& in, std::vector<T>& out) {
   if (in._buffer == nullptr) {
@@ -34,12 +28,19 @@ void copy_seq(const Seq& in, std::vector<T>& out) {
   out.assign(in._buffer, in._buffer + in._length);
 }
 
-void copy_string(const char* in, std::string& out) {
-  if (in == nullptr) {
-    out.clear();
-  } else {
-    out.assign(in);
-  }
+// Bounded IDL strings are fixed arrays in the C binding (string<N> is char[N + 1]). A string that
+// does not fit is refused rather than cut (the caller returns false: kInvalid).
+template <std::size_t N>
+bool put_string(const std::string& in, char (&out)[N]) {
+  if (in.size() >= N) return false;
+  std::copy(in.begin(), in.end(), out);
+  out[in.size()] = '\0';
+  return true;
+}
+
+template <std::size_t N>
+void copy_string(const char (&in)[N], std::string& out) {
+  out.assign(in, strnlen(in, N));
 }
 
 void copy3(const Vec3& in, double (&out)[3]) {
@@ -86,7 +87,7 @@ bool borrow(const WrenchCommand& in, BorrowScratch& /*scratch*/, rigid_Wrench& o
   out.seq = in.seq;
   out.key = in.key;
   out.body_id = in.body_id;
-  out.body_name = lend(in.body_name);
+  if (!put_string(in.body_name, out.body_name)) return false;
   copy3(in.force, out.force);
   copy3(in.point, out.point);
   out.force_frame = static_cast<std::int32_t>(in.force_frame);
@@ -137,7 +138,7 @@ bool borrow(const ControlReply& in, BorrowScratch& /*scratch*/, rigid_ControlRep
   out.command = static_cast<std::int32_t>(in.command);
   out.outcome = static_cast<std::int32_t>(in.outcome);
   out.tick = in.tick;
-  out.message = lend(in.message);
+  if (!put_string(in.message, out.message)) return false;
   return true;
 }
 
@@ -151,7 +152,29 @@ DecodeStatus copy_from(const rigid_ControlReply& in, ControlReply& out) {
   return DecodeStatus::kOk;
 }
 
-bool borrow(const StatsReport& in, BorrowScratch& /*scratch*/, rigid_Stats& out) {
+bool borrow(const StatsReport& in, BorrowScratch& scratch, rigid_Stats& out) {
+  const std::size_t n = in.refused_by_source.size();
+  if (n > kMaxRefusedSources) return false;
+  scratch.senders.resize(n);
+  scratch.reasons.resize(n);
+  scratch.counts.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const SourceRefusals& r = in.refused_by_source[i];
+    if (!put_string(r.sender,
+                    *reinterpret_cast<char(*)[kMaxSenderLength + 1]>(scratch.senders[i].data())) ||
+        !put_string(r.last_reason,
+                    *reinterpret_cast<char(*)[kMaxReasonLength + 1]>(scratch.reasons[i].data()))) {
+      return false;
+    }
+    scratch.counts[i] = r.count;
+  }
+  out.refused_sender = {static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(n),
+                        reinterpret_cast<char(*)[kMaxSenderLength + 1]>(scratch.senders.data()),
+                        false};
+  out.refused_last_reason = {
+      static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(n),
+      reinterpret_cast<char(*)[kMaxReasonLength + 1]>(scratch.reasons.data()), false};
+  lend(scratch.counts, out.refused_count);
   out.tick = in.tick;
   out.sim_time = in.sim_time;
   out.mode = static_cast<std::int32_t>(in.mode);
@@ -168,9 +191,10 @@ bool borrow(const StatsReport& in, BorrowScratch& /*scratch*/, rigid_Stats& out)
   out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
-  out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,
-                  in.rejected.undecodable, in.rejected.stale_sequence, in.rejected.queue_full,
-                  in.rejected.invalid};
+  out.rejected = {in.rejected.non_finite,   in.rejected.unknown_body,   in.rejected.over_limit,
+                  in.rejected.undecodable,  in.rejected.stale_sequence, in.rejected.queue_full,
+                  in.rejected.invalid,      in.rejected.over_share,     in.rejected.rate_limited,
+                  in.rejected.not_permitted};
   out.dds = {in.dds.sent, in.dds.send_failures, in.dds.received, in.dds.decode_failures};
   out.lcm = {in.lcm.sent, in.lcm.send_failures, in.lcm.received, in.lcm.decode_failures};
   return true;
@@ -193,29 +217,50 @@ DecodeStatus copy_from(const rigid_Stats& in, StatsReport& out) {
   out.large_rotation_steps = in.large_rotation_steps;
   out.states_skipped = in.states_skipped;
   out.commands_accepted = in.commands_accepted;
-  out.rejected = {in.rejected.non_finite,  in.rejected.unknown_body,   in.rejected.over_limit,
-                  in.rejected.undecodable, in.rejected.stale_sequence, in.rejected.queue_full,
-                  in.rejected.invalid};
+  out.rejected = {in.rejected.non_finite,   in.rejected.unknown_body,   in.rejected.over_limit,
+                  in.rejected.undecodable,  in.rejected.stale_sequence, in.rejected.queue_full,
+                  in.rejected.invalid,      in.rejected.over_share,     in.rejected.rate_limited,
+                  in.rejected.not_permitted};
   out.dds = {in.dds.sent, in.dds.send_failures, in.dds.received, in.dds.decode_failures};
   out.lcm = {in.lcm.sent, in.lcm.send_failures, in.lcm.received, in.lcm.decode_failures};
+  const std::size_t n = in.refused_sender._length;
+  if (in.refused_count._length != n || in.refused_last_reason._length != n) {
+    return DecodeStatus::kInconsistentLengths;
+  }
+  out.refused_by_source.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    copy_string(in.refused_sender._buffer[i], out.refused_by_source[i].sender);
+    out.refused_by_source[i].count = in.refused_count._buffer[i];
+    copy_string(in.refused_last_reason._buffer[i], out.refused_by_source[i].last_reason);
+  }
   return DecodeStatus::kOk;
 }
 
 bool borrow(const SceneDescription& in, BorrowScratch& scratch, rigid_SceneInfo& out) {
   if (!in.lengths_agree() || in.body_count() > kMaxBodies) return false;
-  out.scene_name = lend(in.scene_name);
   out.dt = in.dt;
   out.substeps = in.substeps;
   out.publish_every = in.publish_every;
   copy3(in.gravity, out.gravity);
-  out.integrator = lend(in.integrator);
+  if (!put_string(in.scene_name, out.scene_name) || !put_string(in.integrator, out.integrator)) {
+    return false;
+  }
   out.max_force = in.max_force;
   out.max_torque = in.max_torque;
+  out.max_ttl = in.max_ttl;
+  out.max_wrenches_per_source = in.max_wrenches_per_source;
+  out.max_commands_per_second = in.max_commands_per_second;
   lend(in.ids, out.ids);
   scratch.names.resize(in.names.size());
-  std::transform(in.names.begin(), in.names.end(), scratch.names.begin(),
-                 [](const std::string& name) { return lend(name); });
-  lend(scratch.names, out.names);
+  for (std::size_t i = 0; i < in.names.size(); ++i) {
+    if (!put_string(in.names[i],
+                    *reinterpret_cast<char(*)[kMaxNameLength + 1]>(scratch.names[i].data()))) {
+      return false;
+    }
+  }
+  out.names = {static_cast<std::uint32_t>(in.names.size()),
+               static_cast<std::uint32_t>(in.names.size()),
+               reinterpret_cast<char(*)[kMaxNameLength + 1]>(scratch.names.data()), false};
   lend(in.masses, out.masses);
   lend(in.inertia, out.inertia);
   scratch.shape_kinds.resize(in.shape_kinds.size());
@@ -240,6 +285,9 @@ DecodeStatus copy_from(const rigid_SceneInfo& in, SceneDescription& out) {
   copy_string(in.integrator, out.integrator);
   out.max_force = in.max_force;
   out.max_torque = in.max_torque;
+  out.max_ttl = in.max_ttl;
+  out.max_wrenches_per_source = in.max_wrenches_per_source;
+  out.max_commands_per_second = in.max_commands_per_second;
   copy_seq(in.ids, out.ids);
   out.names.resize(n);
   for (std::size_t i = 0; i < n; ++i)

@@ -8,6 +8,7 @@
 
 #include <rigid.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -19,8 +20,11 @@ namespace rigid::transport::dds {
 
 // Storage some borrowed views need (SceneInfo's array of C strings and its shape kinds as int32).
 struct BorrowScratch {
-  std::vector<char*> names;
+  std::vector<std::array<char, kMaxNameLength + 1>> names;  // string<128>: char[129] each
   std::vector<std::int32_t> shape_kinds;
+  std::vector<std::array<char, kMaxSenderLength + 1>> senders;
+  std::vector<std::array<char, kMaxReasonLength + 1>> reasons;
+  std::vector<std::int64_t> counts;
 };
 
 // false: the per-body arrays disagree with the body count (or exceed DDS's uint32 lengths).

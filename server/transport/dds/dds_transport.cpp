@@ -3,38 +3,102 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <mutex>
+#include <string_view>
 #include <thread>
+#include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 #include "transport/dds/dds_convert.hpp"
 #include "transport/dds/dds_entity.hpp"
 #include "transport/dds/dds_qos.hpp"
+#include "transport/dds/dds_security.hpp"
 #include "transport/message_topic.hpp"
 #include "transport/traffic_counter.hpp"
 
 namespace rigid::transport::dds {
 namespace {
 
-void deliver(Receiver& receiver, const StateFrame& message) {
+void deliver(Receiver& receiver, const StateFrame& message, const Origin& /*origin*/) {
   receiver.on_state(message);
 }
-void deliver(Receiver& receiver, const WrenchCommand& message) {
-  receiver.on_wrench(message);
+void deliver(Receiver& receiver, const WrenchCommand& message, const Origin& origin) {
+  receiver.on_wrench(message, origin);
 }
-void deliver(Receiver& receiver, const ControlCommand& message) {
-  receiver.on_control(message);
+void deliver(Receiver& receiver, const ControlCommand& message, const Origin& origin) {
+  receiver.on_control(message, origin);
 }
-void deliver(Receiver& receiver, const ControlReply& message) {
+
+// With DDS Security, who wrote a command: the identity and body named by the writer's partition
+// (push/IDENTITY/BODY or control/IDENTITY), which access control lets only that identity use.
+// Looked up once per remote writer (dds_get_matched_publication_data allocates) and kept; the
+// cache is bounded (cleared when full: a writer is then looked up again).
+class WriterPartitions {
+ public:
+  struct Entry {
+    std::string identity;
+    std::string body;
+    bool ok = false;
+  };
+  const Entry& lookup(dds_entity_t reader, dds_instance_handle_t writer) {
+    if (auto it = cache_.find(writer); it != cache_.end()) return it->second;
+    if (cache_.size() >= kMaxWriters) cache_.clear();
+    Entry entry;
+    if (dds_builtintopic_endpoint_t* ep = dds_get_matched_publication_data(reader, writer)) {
+      uint32_t n = 0;
+      char** names = nullptr;
+      if (ep->qos != nullptr && dds_qget_partition(ep->qos, &n, &names) && n == 1) {
+        entry = parse(names[0]);
+      }
+      for (uint32_t i = 0; i < n; ++i)
+        dds_free(names[i]);
+      dds_free(names);
+      dds_builtintopic_free_endpoint(ep);
+    }
+    return cache_.emplace(writer, std::move(entry)).first->second;
+  }
+
+ private:
+  static constexpr std::size_t kMaxWriters = 4096;
+  static Entry parse(std::string_view partition) {
+    Entry e;
+    // A writer's partition with wildcards would be matched as a pattern: never an identity.
+    if (partition.find_first_of("*?[]\\") != std::string_view::npos) return e;
+    const auto first = partition.find('/');
+    if (first == std::string_view::npos) return e;
+    const std::string_view kind = partition.substr(0, first);
+    const std::string_view rest = partition.substr(first + 1);
+    if (kind == kControlPartition) {
+      if (rest.empty() || rest.find('/') != std::string_view::npos) return e;
+      e.identity = rest;
+      e.ok = true;
+    } else if (kind == kPushPartition) {
+      const auto second = rest.find('/');
+      if (second == std::string_view::npos || second == 0 || second + 1 == rest.size()) return e;
+      e.identity = rest.substr(0, second);
+      e.body = rest.substr(second + 1);
+      e.ok = true;
+    }
+    return e;
+  }
+  std::unordered_map<dds_instance_handle_t, Entry> cache_;
+};
+void deliver(Receiver& receiver, const ControlReply& message, const Origin& /*origin*/) {
   receiver.on_control_reply(message);
 }
-void deliver(Receiver& receiver, const StatsReport& message) {
+void deliver(Receiver& receiver, const StatsReport& message, const Origin& /*origin*/) {
   receiver.on_stats(message);
 }
-void deliver(Receiver& receiver, const SceneDescription& message) {
+void deliver(Receiver& receiver, const SceneDescription& message, const Origin& /*origin*/) {
   receiver.on_scene(message);
 }
-void deliver(Receiver& receiver, const AcceptedCommand& message) {
+void deliver(Receiver& receiver, const AcceptedCommand& message, const Origin& /*origin*/) {
   receiver.on_accepted(message);
 }
 
@@ -44,7 +108,7 @@ class Inbox {
  public:
   virtual ~Inbox() = default;
   // Takes the available samples, at most kMaxPerDrain, and hands each to the receiver.
-  virtual void drain(Receiver& receiver, TrafficCounter& counter) = 0;
+  virtual void drain(Receiver& receiver, TrafficCounter& counter, bool secure) = 0;
   // A reader still holding samples triggers the waitset again at once, and the readers take turns:
   // a reader flooded about as fast as it is drained (10^5 wrenches a second) cannot starve the
   // others (bench/flood measured a control request waiting 200 ms behind such a flood). At most
@@ -76,7 +140,7 @@ class TypedInbox final : public Inbox {
   TypedInbox(const TypedInbox&) = delete;
   TypedInbox& operator=(const TypedInbox&) = delete;
 
-  void drain(Receiver& receiver, TrafficCounter& counter) override {
+  void drain(Receiver& receiver, TrafficCounter& counter, bool secure) override {
     // A non-null buffer makes dds_take copy into our sample instead of lending one.
     void* buffer[1] = {&sample_};
     dds_sample_info_t info;
@@ -85,7 +149,18 @@ class TypedInbox final : public Inbox {
       const DecodeStatus status = copy_from(sample_, message_);
       if (status == DecodeStatus::kOk) {
         counter.received();
-        deliver(receiver, message_);
+        Origin origin;
+        origin.session = info.publication_handle;
+        if (secure && is_command) {
+          const WriterPartitions::Entry& who =
+              partitions_.lookup(reader_.get(), info.publication_handle);
+          if (who.ok) {
+            origin.identity = who.identity;
+            origin.permitted_body = who.body;
+            origin.authenticated = true;
+          }
+        }
+        deliver(receiver, message_, origin);
       } else {
         counter.decode_failed();
         receiver.on_decode_error({Bus::kDds, DdsTypeOf<Plain>::topic, status, 0});
@@ -94,8 +169,11 @@ class TypedInbox final : public Inbox {
   }
 
  private:
+  static constexpr bool is_command =
+      std::is_same_v<Plain, WrenchCommand> || std::is_same_v<Plain, ControlCommand>;
   typename DdsTypeOf<Plain>::type sample_{};
   Plain message_;
+  WriterPartitions partitions_;
 };
 
 class DdsTransport final : public Transport {
@@ -106,10 +184,20 @@ class DdsTransport final : public Transport {
       throw TransportError("DDS: invalid prefix '" + options.prefix +
                            "' (letters, digits and '_' only)");
     }
-    participant_ = Entity(dds_create_participant(options.domain, nullptr, nullptr),
-                          "participant on domain " + std::to_string(options.domain) +
-                              " (is CYCLONEDDS_URI a readable config? scripts/net-setup prints "
-                              "the loopback one)");
+    Qos participant_qos;
+    if (!options.security.empty()) {
+      identity_ = load_identity(options.security);
+      participant_qos = participant_security_qos(identity_);
+    }
+    participant_ = Entity(
+        dds_create_participant(options.domain, participant_qos.get(), nullptr),
+        "participant on domain " + std::to_string(options.domain) +
+            (secure()
+                 ? " with DDS Security from " + identity_.directory +
+                       " (is its certificate expired or revoked, or are its files from another "
+                       "keystore? rigid-keys list KEYSTORE tells)"
+                 : " (is CYCLONEDDS_URI a readable config? scripts/net-setup prints the "
+                   "loopback one)"));
     waitset_ = Entity(dds_create_waitset(participant_.get()), "waitset");
     stop_ = Entity(dds_create_guardcondition(participant_.get()), "guard condition");
     check(dds_waitset_attach(waitset_.get(), stop_.get(), kStopToken), "attach guard condition");
@@ -141,8 +229,24 @@ class DdsTransport final : public Transport {
   PublishResult publish(const StatsReport& m) override { return write(m); }
   PublishResult publish(const SceneDescription& m) override { return write(m); }
   PublishResult publish(const ControlReply& m) override { return write(m); }
-  PublishResult publish(const WrenchCommand& m) override { return write(m); }
-  PublishResult publish(const ControlCommand& m) override { return write(m); }
+  PublishResult publish(const WrenchCommand& m) override {
+    if (!secure() || role_ != Role::kClient) return write(m);
+    // With security a wrench goes out through the writer of its body's partition.
+    if (m.body_name.empty() || m.body_name.size() > kMaxNameLength) return PublishResult::kInvalid;
+    constexpr std::size_t i = index_of(Topic::kWrench);
+    const std::lock_guard lock(send_mutex_[i]);
+    const dds_entity_t writer = command_writer(push_partition(identity_.name, m.body_name));
+    if (writer <= 0) return PublishResult::kNotPermitted;
+    return write_with(writer, m, scratch_[i]);
+  }
+  PublishResult publish(const ControlCommand& m) override {
+    if (!secure() || role_ != Role::kClient) return write(m);
+    constexpr std::size_t i = index_of(Topic::kControl);
+    const std::lock_guard lock(send_mutex_[i]);
+    const dds_entity_t writer = command_writer(control_partition(identity_.name));
+    if (writer <= 0) return PublishResult::kNotPermitted;
+    return write_with(writer, m, scratch_[i]);
+  }
   PublishResult publish(const AcceptedCommand& m) override { return write(m); }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
@@ -161,9 +265,24 @@ class DdsTransport final : public Transport {
     const std::string& name = names[index_of(topic)];
     const Qos qos = topic_qos(topic, reliable_state);
     Entity& entity = topics_[index_of(topic)];
-    entity = Entity(dds_create_topic(participant_.get(), DdsTypeOf<Plain>::descriptor, name.c_str(),
-                                     qos.get(), nullptr),
-                    "topic " + name);
+    const dds_entity_t created = dds_create_topic(participant_.get(), DdsTypeOf<Plain>::descriptor,
+                                                  name.c_str(), qos.get(), nullptr);
+    if (created == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY && role_ == Role::kClient) {
+      // This identity's permissions leave the topic out (a reader cannot write wrenches, an
+      // identity that may not control gets no control replies): it simply does without.
+      return;
+    }
+    entity =
+        Entity(created, "topic " + name + (secure() ? " (not permitted to this identity?)" : ""));
+    const bool command = topic == Topic::kWrench || topic == Topic::kControl;
+    if (secure() && command) {
+      if (role_ == Role::kClient) return;  // a writer per partition, made when first needed
+      // The server reads every identity's partition of the topic.
+      const std::string any =
+          std::string(topic == Topic::kWrench ? kPushPartition : kControlPartition) + "/*";
+      const char* partitions[] = {any.c_str()};
+      dds_qset_partition(qos.get(), 1, partitions);
+    }
     if (publishes(role_, topic)) {
       writers_[index_of(topic)] =
           Entity(dds_create_writer(participant_.get(), entity.get(), qos.get(), nullptr),
@@ -182,10 +301,48 @@ class DdsTransport final : public Transport {
     constexpr std::size_t i = index_of(DdsTypeOf<Plain>::topic);
     if (writers_[i].get() <= 0) return PublishResult::kWrongRole;
     const std::lock_guard lock(send_mutex_[i]);
+    return write_with(writers_[i].get(), message, scratch_[i]);
+  }
+
+  template <class Plain>
+  PublishResult write_with(dds_entity_t writer, const Plain& message, BorrowScratch& scratch) {
     typename DdsTypeOf<Plain>::type sample{};
-    if (!borrow(message, scratch_[i], sample)) return PublishResult::kInvalid;
-    const dds_return_t result = dds_write(writers_[i].get(), &sample);
+    if (!borrow(message, scratch, sample)) return PublishResult::kInvalid;
+    const dds_return_t result = dds_write(writer, &sample);
     return counter_.count(result == DDS_RETCODE_OK ? PublishResult::kOk : PublishResult::kFailed);
+  }
+
+  bool secure() const { return !identity_.name.empty(); }
+
+  // With security, a client's writer for one command partition (push/NAME/BODY, control/NAME),
+  // made the first time it is needed: access control refuses one the identity's permissions do
+  // not allow (0 is returned, and remembered). A new writer is given a moment to match the
+  // server's reader, or its first command would go to no one. The caller holds the topic's lock.
+  dds_entity_t command_writer(const std::string& partition) {
+    if (auto it = command_writers_.find(partition); it != command_writers_.end()) {
+      return it->second.get();
+    }
+    if (command_writers_.size() >= kMaxCommandWriters) return 0;
+    const bool wrench = partition.starts_with(kPushPartition);
+    const Topic topic = wrench ? Topic::kWrench : Topic::kControl;
+    if (topics_[index_of(topic)].get() <= 0) return 0;  // the identity has no such topic
+    const Qos qos = topic_qos(topic, false);
+    const char* partitions[] = {partition.c_str()};
+    dds_qset_partition(qos.get(), 1, partitions);
+    const dds_entity_t writer =
+        dds_create_writer(participant_.get(), topics_[index_of(topic)].get(), qos.get(), nullptr);
+    if (writer < 0) {
+      command_writers_.emplace(partition, Entity());
+      return 0;
+    }
+    Entity& entity = command_writers_.emplace(partition, Entity(writer, "writer")).first->second;
+    const std::int64_t give_up = dds_time() + DDS_SECS(2);
+    dds_publication_matched_status_t matched{};
+    while (dds_get_publication_matched_status(writer, &matched) == DDS_RETCODE_OK &&
+           matched.current_count == 0 && dds_time() < give_up) {
+      dds_sleepfor(DDS_MSECS(5));
+    }
+    return entity.get();
   }
 
   void receive_loop() {
@@ -198,14 +355,17 @@ class DdsTransport final : public Transport {
       for (std::size_t k = 0; k < count; ++k) {
         const dds_attach_t token = triggered[k];
         if (token == kStopToken) return;
-        inboxes_[static_cast<std::size_t>(token)]->drain(receiver_, counter_);
+        inboxes_[static_cast<std::size_t>(token)]->drain(receiver_, counter_, secure());
       }
     }
   }
 
+  static constexpr std::size_t kMaxCommandWriters = 1024;
+
   const Role role_;
   Receiver& receiver_;
   TrafficCounter counter_;
+  Identity identity_;  // name empty: no security
   // Declaration order is destruction order reversed: the participant goes last.
   Entity participant_;
   Entity waitset_;
@@ -215,6 +375,7 @@ class DdsTransport final : public Transport {
   std::array<std::mutex, kAllTopics.size()> send_mutex_;  // guards scratch_
   std::array<BorrowScratch, kAllTopics.size()> scratch_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
+  std::map<std::string, Entity> command_writers_;  // by partition; guarded by send_mutex_
   std::thread thread_;
 };
 
@@ -222,6 +383,49 @@ class DdsTransport final : public Transport {
 
 std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver) {
   return std::make_unique<DdsTransport>(options, receiver);
+}
+
+void limit_sample_size(std::size_t bytes) {
+  const char* uri = std::getenv("CYCLONEDDS_URI");
+  std::string value = uri != nullptr ? uri : "";
+  value += std::string(value.empty() ? "" : ",") +
+           "<CycloneDDS><Domain id=\"any\"><Internal><MaxSampleSize>" + std::to_string(bytes) +
+           "B</MaxSampleSize></Internal></Domain></CycloneDDS>";
+  ::setenv("CYCLONEDDS_URI", value.c_str(), 1);
+}
+
+std::string ensure_dds_config() {
+  namespace fs = std::filesystem;
+  if (const char* uri = std::getenv("CYCLONEDDS_URI"); uri != nullptr && uri[0] != '\0') {
+    std::string line = std::string("CYCLONEDDS_URI=") + uri;
+    if (std::string_view(uri).find("<NetworkInterface") == std::string_view::npos &&
+        std::string_view(uri).find("file:") == 0) {
+      // Name the interfaces the file pins, so the start line says where DDS goes.
+      std::ifstream in(
+          std::string(uri).substr(std::string_view(uri).starts_with("file://") ? 7 : 5));
+      std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      std::string names;
+      for (std::size_t at = text.find("<NetworkInterface"); at != std::string::npos;
+           at = text.find("<NetworkInterface", at + 1)) {
+        const std::size_t name = text.find("name=\"", at);
+        const std::size_t end = name == std::string::npos ? name : text.find('"', name + 6);
+        if (end == std::string::npos) break;
+        names += (names.empty() ? "" : ",") + text.substr(name + 6, end - name - 6);
+      }
+      line += names.empty() ? " (interfaces: Cyclone's choice)" : " (interfaces: " + names + ")";
+    }
+    return line;
+  }
+  // The installed configuration first, then the source tree's (a build run from its tree).
+  for (const char* candidate : {RIGID_INSTALLED_DDS_CONFIG, RIGID_SOURCE_DDS_CONFIG}) {
+    std::error_code error;
+    if (fs::is_regular_file(candidate, error)) {
+      const std::string uri = std::string("file://") + candidate;
+      ::setenv("CYCLONEDDS_URI", uri.c_str(), 1);
+      return "CYCLONEDDS_URI=" + uri + " (interfaces: lo; CYCLONEDDS_URI was unset)";
+    }
+  }
+  return "CYCLONEDDS_URI unset and no loopback config found: Cyclone DDS picks an interface";
 }
 
 }  // namespace rigid::transport::dds

@@ -16,7 +16,20 @@ struct Options {
   std::uint32_t domain = 0;
   std::string prefix;           // see topic.hpp; letters, digits and '_' only
   bool reliable_state = false;  // rigid/state reliable instead of best-effort keep-last 1
+  // DDS Security: an identity directory (rigid-keys add KEYSTORE NAME makes
+  // KEYSTORE/identities/NAME). Empty: plain DDS, which trusts every process that reaches it.
+  std::string security;
 };
+
+// "DDS on loopback unless a network is configured": when CYCLONEDDS_URI is unset, points it at
+// the project's loopback configuration (the installed one, else the source tree's) and returns
+// what the process now uses, for its start line: "CYCLONEDDS_URI=... (interfaces: lo)".
+std::string ensure_dds_config();
+
+// Makes Cyclone drop any sample larger than `bytes` as its first fragment arrives, in both
+// directions (Internal/MaxSampleSize, added to CYCLONEDDS_URI): rigidd sets it from the largest
+// sample it publishes, so that an attacker's 100 MB sample is never reassembled in its memory.
+void limit_sample_size(std::size_t bytes);
 
 // Throws TransportError (one line: what failed and what to check) when DDS cannot be set up.
 // `receiver` is called from the transport's thread from before this returns until the transport is

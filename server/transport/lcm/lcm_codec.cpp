@@ -76,20 +76,24 @@ constexpr std::array kControlReplyLayout{
 };
 
 constexpr std::array kStatsLayout{
-    kI64,                  // tick
-    kF64,                  // sim_time
-    kI32,                  // mode
-    kI8,                   // paused
-    fixed(K::kDouble, 5),  // rtf_last_second .. lateness_max_us
-    kI64,                  // overruns
-    fixed(K::kDouble, 2),  // step_cost_p50_us, step_cost_max_us
-    kI64,                  // bodies_frozen
-    kI64,                  // large_rotation_steps
-    kI64,                  // states_skipped
-    kI64,                  // commands_accepted
-    fixed(K::kInt64, 7),   // rejected (RejectCounts, inline)
-    fixed(K::kInt64, 4),   // dds (TransportCounts, inline)
-    fixed(K::kInt64, 4),   // lcm
+    kCount,                  // num_refused_sources
+    kI64,                    // tick
+    kF64,                    // sim_time
+    kI32,                    // mode
+    kI8,                     // paused
+    fixed(K::kDouble, 5),    // rtf_last_second .. lateness_max_us
+    kI64,                    // overruns
+    fixed(K::kDouble, 2),    // step_cost_p50_us, step_cost_max_us
+    kI64,                    // bodies_frozen
+    kI64,                    // large_rotation_steps
+    kI64,                    // states_skipped
+    kI64,                    // commands_accepted
+    fixed(K::kInt64, 10),    // rejected (RejectCounts, inline)
+    fixed(K::kInt64, 4),     // dds (TransportCounts, inline)
+    fixed(K::kInt64, 4),     // lcm
+    counted(K::kString, 0),  // refused_sender
+    counted(K::kInt64, 0),   // refused_count
+    counted(K::kString, 0),  // refused_last_reason
 };
 
 constexpr std::array kSceneInfoLayout{
@@ -104,6 +108,9 @@ constexpr std::array kSceneInfoLayout{
     kStr,                    // integrator
     kF64,                    // max_force
     kF64,                    // max_torque
+    kF64,                    // max_ttl
+    kI32,                    // max_wrenches_per_source
+    kF64,                    // max_commands_per_second
     counted(K::kInt32, 0),   // ids
     counted(K::kString, 0),  // names
     counted(K::kDouble, 0),  // masses

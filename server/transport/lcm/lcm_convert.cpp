@@ -8,10 +8,6 @@
 namespace rigid::transport::lcm {
 namespace {
 
-// LCM sizes arrays with int32; 6n is the largest multiple any rigid type uses.
-constexpr std::size_t kMaxBodies =
-    static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) / 6;
-
 std::int32_t count(std::size_t n) {
   return static_cast<std::int32_t>(n);
 }
@@ -38,6 +34,9 @@ void to_lcm(const RejectCounts& in, rigid_lcm::RejectCounts& out) {
   out.stale_sequence = in.stale_sequence;
   out.queue_full = in.queue_full;
   out.invalid = in.invalid;
+  out.over_share = in.over_share;
+  out.rate_limited = in.rate_limited;
+  out.not_permitted = in.not_permitted;
 }
 
 void from_lcm(const rigid_lcm::RejectCounts& in, RejectCounts& out) {
@@ -48,6 +47,9 @@ void from_lcm(const rigid_lcm::RejectCounts& in, RejectCounts& out) {
   out.stale_sequence = in.stale_sequence;
   out.queue_full = in.queue_full;
   out.invalid = in.invalid;
+  out.over_share = in.over_share;
+  out.rate_limited = in.rate_limited;
+  out.not_permitted = in.not_permitted;
 }
 
 void to_lcm(const TransportCounts& in, rigid_lcm::TransportCounts& out) {
@@ -190,6 +192,17 @@ bool to_lcm(const StatsReport& in, rigid_lcm::Stats& out) {
   to_lcm(in.rejected, out.rejected);
   to_lcm(in.dds, out.dds);
   to_lcm(in.lcm, out.lcm);
+  const std::size_t n = in.refused_by_source.size();
+  if (n > kMaxRefusedSources) return false;
+  out.num_refused_sources = count(n);
+  out.refused_sender.resize(n);
+  out.refused_count.resize(n);
+  out.refused_last_reason.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out.refused_sender[i] = in.refused_by_source[i].sender;
+    out.refused_count[i] = in.refused_by_source[i].count;
+    out.refused_last_reason[i] = in.refused_by_source[i].last_reason;
+  }
   return true;
 }
 
@@ -213,6 +226,14 @@ DecodeStatus from_lcm(const rigid_lcm::Stats& in, StatsReport& out) {
   from_lcm(in.rejected, out.rejected);
   from_lcm(in.dds, out.dds);
   from_lcm(in.lcm, out.lcm);
+  const auto n = static_cast<std::size_t>(in.num_refused_sources);
+  if (n > kMaxRefusedSources) return DecodeStatus::kInconsistentLengths;
+  out.refused_by_source.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out.refused_by_source[i].sender = in.refused_sender[i];
+    out.refused_by_source[i].count = in.refused_count[i];
+    out.refused_by_source[i].last_reason = in.refused_last_reason[i];
+  }
   return DecodeStatus::kOk;
 }
 
@@ -230,6 +251,9 @@ bool to_lcm(const SceneDescription& in, rigid_lcm::SceneInfo& out) {
   out.integrator = in.integrator;
   out.max_force = in.max_force;
   out.max_torque = in.max_torque;
+  out.max_ttl = in.max_ttl;
+  out.max_wrenches_per_source = in.max_wrenches_per_source;
+  out.max_commands_per_second = in.max_commands_per_second;
   out.ids.assign(in.ids.begin(), in.ids.end());
   out.names.assign(in.names.begin(), in.names.end());
   out.masses.assign(in.masses.begin(), in.masses.end());
@@ -255,6 +279,9 @@ DecodeStatus from_lcm(const rigid_lcm::SceneInfo& in, SceneDescription& out) {
   out.integrator = in.integrator;
   out.max_force = in.max_force;
   out.max_torque = in.max_torque;
+  out.max_ttl = in.max_ttl;
+  out.max_wrenches_per_source = in.max_wrenches_per_source;
+  out.max_commands_per_second = in.max_commands_per_second;
   copy_prefix(in.ids, n, out.ids);
   copy_prefix(in.names, n, out.names);
   copy_prefix(in.masses, n, out.masses);

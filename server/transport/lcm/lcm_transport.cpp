@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "transport/lcm/lcm_codec.hpp"
+#include "transport/lcm/lcm_command_socket.hpp"
 #include "transport/lcm/lcm_handle.hpp"
 #include "transport/message_topic.hpp"
 #include "transport/traffic_counter.hpp"
@@ -24,10 +25,17 @@ void deliver(Receiver& receiver, const StateFrame& message) {
   receiver.on_state(message);
 }
 void deliver(Receiver& receiver, const WrenchCommand& message) {
-  receiver.on_wrench(message);
+  receiver.on_wrench(message, Origin{});
 }
 void deliver(Receiver& receiver, const ControlCommand& message) {
-  receiver.on_control(message);
+  receiver.on_control(message, Origin{});
+}
+
+// The command socket wants a receive buffer that holds a burst (it also sees every state the
+// server multicasts on the same group, fragments that it drops).
+std::string with_receive_buffer(const std::string& url) {
+  if (url.find("recv_buf_size=") != std::string::npos) return url;
+  return url + (url.find('?') == std::string::npos ? "?" : "&") + "recv_buf_size=4194304";
 }
 void deliver(Receiver& receiver, const ControlReply& message) {
   receiver.on_control_reply(message);
@@ -102,6 +110,17 @@ class LcmTransport final : public Transport {
       throw TransportError(std::string("LCM: cannot create an eventfd: ") + std::strerror(errno));
     }
     const Intake intake{codec_, receiver, counter_};
+    if (role_ == Role::kServer) {
+      // The server receives commands on its own bounded socket, never through liblcm, whose
+      // reassembly of fragmented messages holds up to 256 MB per sender (lcm_command_socket.hpp).
+      // liblcm then never opens a receive socket in this process: it only publishes.
+      commands_ = std::make_unique<CommandSocket>(
+          with_receive_buffer(options.url),
+          std::vector<std::string>{channels_[index_of(Topic::kWrench)],
+                                   channels_[index_of(Topic::kControl)]});
+      thread_ = std::thread([this, &receiver] { receive_commands(receiver); });
+      return;
+    }
     subscribe<StateFrame>(intake);
     subscribe<WrenchCommand>(intake);
     subscribe<ControlCommand>(intake);
@@ -160,6 +179,52 @@ class LcmTransport final : public Transport {
     return counter_.count(result == 0 ? PublishResult::kOk : PublishResult::kFailed);
   }
 
+  // Server role: each datagram on a command channel is decoded and delivered with its sender's
+  // session (its UDP address and port).
+  void receive_commands(Receiver& receiver) {
+    std::array<pollfd, 2> fds{};
+    fds[0] = {commands_->fd(), POLLIN, 0};
+    fds[1] = {wake_.get(), POLLIN, 0};
+    const std::string& wrench_channel = channels_[index_of(Topic::kWrench)];
+    for (;;) {
+      if (::poll(fds.data(), fds.size(), -1) < 0) {
+        if (errno == EINTR) continue;
+        return;
+      }
+      if (fds[1].revents != 0) return;
+      if ((fds[0].revents & POLLIN) == 0) continue;
+      commands_->receive(
+          [&](std::string_view channel, std::span<const std::uint8_t> payload,
+              std::uint64_t session) {
+            Origin origin;
+            origin.session = session;
+            const Topic topic = channel == wrench_channel ? Topic::kWrench : Topic::kControl;
+            const DecodeStatus status = topic == Topic::kWrench ? codec_.decode(payload, wrench_)
+                                                                : codec_.decode(payload, control_);
+            if (status != DecodeStatus::kOk) {
+              counter_.decode_failed();
+              receiver.on_decode_error({Bus::kLcm, topic, status, payload.size()});
+              return;
+            }
+            counter_.received();
+            if (topic == Topic::kWrench) {
+              receiver.on_wrench(wrench_, origin);
+            } else {
+              receiver.on_control(control_, origin);
+            }
+          },
+          [&](const Rejected& rejected) {
+            // A command too large for one datagram (its first fragment on a command channel) or
+            // a datagram that is not LCM at all: counted, never reassembled.
+            if (rejected.reason == Rejection::kFragment && rejected.channel.empty()) return;
+            counter_.decode_failed();
+            const Topic topic =
+                rejected.channel == wrench_channel ? Topic::kWrench : Topic::kControl;
+            receiver.on_decode_error({Bus::kLcm, topic, DecodeStatus::kMalformed, rejected.bytes});
+          });
+    }
+  }
+
   void receive_loop() {
     std::array<pollfd, 2> fds{};
     fds[0] = {lcm_get_fileno(lcm_.get()), POLLIN, 0};
@@ -181,6 +246,9 @@ class LcmTransport final : public Transport {
   Codec codec_;
   std::array<std::mutex, kAllTopics.size()> send_mutex_;  // guards the codec's encode buffers
   std::vector<std::unique_ptr<Inbox>> inboxes_;           // outlive lcm_, which calls into them
+  std::unique_ptr<CommandSocket> commands_;               // server role
+  WrenchCommand wrench_;                                  // decoded commands, reused
+  ControlCommand control_;
   LcmHandle lcm_;
   FileDescriptor wake_;
   std::thread thread_;
