@@ -102,6 +102,9 @@ struct Options {
   std::string csv, histogram;
   std::string rigidd = RIGIDD_EXE;
   std::vector<std::string> rigidd_args;  // --rigidd-arg, passed on
+  // --security KEYSTORE (made by scripts/rigid-keys, with an identity "bench" that may push):
+  // rigidd runs as KEYSTORE/identities/rigidd, the DDS probes as KEYSTORE/identities/bench.
+  std::string security;
 };
 
 Options parse(int argc, char** argv) {
@@ -151,6 +154,8 @@ Options parse(int argc, char** argv) {
       o.rigidd = value();
     } else if (a == "--rigidd-arg") {
       o.rigidd_args.push_back(value());
+    } else if (a == "--security") {
+      o.security = value();
     } else {
       throw std::invalid_argument("unknown option '" + a + "'");
     }
@@ -274,12 +279,14 @@ Percentiles percentiles(std::vector<double> v) {
 // that shows them.
 class Probe final : public rigid::transport::Receiver {
  public:
-  Probe(Bus bus, const std::string& prefix, int body, bool subscribe_states)
+  Probe(Bus bus, const std::string& prefix, int body, bool subscribe_states,
+        const std::string& security = "")
       : bus_(bus), body_(body), subscribe_(subscribe_states) {
     if (bus == Bus::kDds) {
       rigid::transport::dds::Options o;
       o.role = rigid::transport::Role::kClient;
       o.prefix = prefix;
+      o.security = security;
       transport_ = rigid::transport::dds::make_transport(o, *this);
     } else {
       rigid::transport::lcm::Options o;
@@ -324,6 +331,7 @@ class Probe final : public rigid::transport::Receiver {
     w.source = 1000 + static_cast<int>(bus_);
     w.seq = ++seq_;
     w.body_id = body_;
+    w.body_name = "b" + std::to_string(body_);  // the scene's name (DDS Security needs it)
     w.force = {(seq_ % 2) ? 1.0 : -1.0, 0, 0};
     w.ttl = 0;
     {
@@ -526,10 +534,16 @@ int run(const Options& o) {
   // the LCM one's.
   std::vector<std::unique_ptr<Probe>> probes;
   for (Bus bus : o.buses)
-    probes.push_back(std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers));
+    probes.push_back(std::make_unique<Probe>(
+        bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers,
+        o.security.empty() ? "" : o.security + "/identities/bench"));
   std::vector<std::string> args{"--scene", scene,         "--mode",    o.mode,     "--prefix",
                                 prefix,    "--transport", o.transport, "--verbose"};
   args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
+  if (!o.security.empty()) {
+    args.push_back("--security");
+    args.push_back(o.security + "/identities/rigidd");
+  }
   Daemon daemon(o.rigidd, args, dir / "rigidd.err");
   const auto start = std::chrono::steady_clock::now();
   if (o.subscribers) {
@@ -703,7 +717,7 @@ int main(int argc, char** argv) {
           "                  [--publish-every K] [--point-masses] [--push-every-ms MS] "
           "[--no-subscribers]\n"
           "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
-          "ARG]...\n"
+          "ARG]... [--security KEYSTORE]\n"
           "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
           "body-step or states per\nsecond a bus sustains (fast), the machine's timer floor "
           "(timer). See the comment at the top of\nbench/loop_bench.cpp.\n");

@@ -116,9 +116,19 @@ void Loop::run() {
         }
       }
     }
+    rest_if_busy();
     const std::int64_t now = monotonic_ns();
     if (stats_.window_due(now)) roll_stats(now);
   }
+}
+
+void Loop::rest_if_busy() {
+  // Only realtime mode runs at real-time priority (server.cpp); fast and lockstep never starve.
+  if (config_.mode != Mode::kRealtime) return;
+  const std::int64_t now = monotonic_ns();
+  if (now - last_rest_ns_ < kMaxBusyNs) return;
+  sleep_until(now + kRestNs);
+  last_rest_ns_ = monotonic_ns();
 }
 
 bool Loop::sleep_to(std::int64_t deadline_ns) {
@@ -128,6 +138,7 @@ bool Loop::sleep_to(std::int64_t deadline_ns) {
     const std::int64_t now = monotonic_ns();
     if (now >= wake) break;
     sleep_until(std::min(wake, now + kMaxSleepSliceNs));
+    last_rest_ns_ = monotonic_ns();
   }
   while (monotonic_ns() < deadline_ns)
     cpu_relax();
@@ -143,6 +154,7 @@ void Loop::idle_wait() {
         {now + kMaxSleepSliceNs, stats_.window_end_ns(), last_publish_ns_ + kIdleRepublishNs});
     doorbell_.wait_until(seen, until);
     now = monotonic_ns();
+    last_rest_ns_ = now;
   }
   if (!wants_tick() && now - last_publish_ns_ >= kIdleRepublishNs) publish_state();
   if (stats_.window_due(now)) roll_stats(now);

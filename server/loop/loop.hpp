@@ -108,6 +108,13 @@ class Loop {
   // false if a stop was requested.
   bool sleep_to(std::int64_t deadline_ns);
   void idle_wait();
+  // A loop that has not slept for kMaxBusyNs (behind schedule, or running a long step request)
+  // sleeps kRestNs: at real-time priority it would otherwise starve the publishers pinned to its
+  // CPU, and replies and states would stop going out. It then falls behind a little more
+  // (overruns, rtf in Stats) instead.
+  void rest_if_busy();
+  static constexpr std::int64_t kMaxBusyNs = 5'000'000;
+  static constexpr std::int64_t kRestNs = 200'000;
   void roll_stats(std::int64_t now_ns);
   void note_frozen_bodies();
 
@@ -135,6 +142,7 @@ class Loop {
   std::int64_t last_publish_ns_ = 0;
   std::int64_t first_arrival_ns_ = 0;  // of the commands not yet shown in a published state
   std::int64_t hashed_tick_ = -1;      // the last state hashed (an idle republish is not again)
+  std::int64_t last_rest_ns_ = 0;      // when the loop last slept (see rest_if_busy)
 
   // Physics faults. The world lists its frozen bodies in order; frozen_seen_ of them have been
   // looked at (a reset empties the list). Each body is queued for the log the first time only.

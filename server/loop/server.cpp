@@ -337,6 +337,19 @@ std::string Server::closing_line() const {
   return line;
 }
 
+std::string Server::short_closing_line() const {
+  if (!totals_) return "stopped before starting";
+  const RunTotals& t = *totals_;
+  return "stopped after " + std::to_string(t.ticks_stepped) + " ticks (" + fixed(t.wall_s, 1) +
+         " s, rtf " + fixed(t.wall_s > 0 ? t.sim_s_stepped / t.wall_s : 0.0, 3) + "), " +
+         std::to_string(t.overruns) + " overruns, lateness p99 " +
+         us(t.lateness.percentile(0.99)) + " us; commands accepted " +
+         std::to_string(loop_.commands_accepted()) + ", refused " +
+         std::to_string(rejects_.total()) +
+         "; bodies_frozen=" + std::to_string(loop_.world().frozen_bodies().size()) +
+         " (--verbose: the full summary)";
+}
+
 std::string Server::lateness_histogram_line() const {
   std::string line = "lateness_histogram_ns";
   if (!totals_) return line;

@@ -85,6 +85,8 @@ class Server final : private LoopOutput {
   // One line summing up the run (after stop): ticks, lateness and step cost percentiles,
   // overruns, states sent and skipped per bus, commands accepted and refused.
   std::string closing_line() const;
+  // The same in short, for the log at exit: ticks, rtf, overruns, lateness p99, commands.
+  std::string short_closing_line() const;
   // The whole run's tick lateness distribution (after stop), for benchmarks that plot it:
   // "lateness_histogram_ns LOW:COUNT ...", one pair per non-empty bucket, LOW its lower bound.
   std::string lateness_histogram_line() const;

@@ -82,6 +82,9 @@ void to_record(const transport::SceneDescription& in, std::int64_t recorded_ns,
   out.set_integrator(in.integrator);
   out.set_max_force(in.max_force);
   out.set_max_torque(in.max_torque);
+  out.set_max_ttl(in.max_ttl);
+  out.set_max_wrenches_per_source(in.max_wrenches_per_source);
+  out.set_max_commands_per_second(in.max_commands_per_second);
   put(in.ids, out.mutable_ids());
   out.mutable_names()->Assign(in.names.begin(), in.names.end());
   put(in.masses, out.mutable_masses());
@@ -102,6 +105,9 @@ bool from_record(const msgs::SceneRecord& in, transport::SceneDescription& out) 
   out.integrator = in.integrator();
   out.max_force = in.max_force();
   out.max_torque = in.max_torque();
+  out.max_ttl = in.max_ttl();
+  out.max_wrenches_per_source = in.max_wrenches_per_source();
+  out.max_commands_per_second = in.max_commands_per_second();
   get(in.ids(), out.ids);
   out.names.assign(in.names().begin(), in.names().end());
   get(in.masses(), out.masses);
@@ -137,6 +143,9 @@ void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs:
   out.set_rejected_stale_sequence(in.rejected.stale_sequence);
   out.set_rejected_queue_full(in.rejected.queue_full);
   out.set_rejected_invalid(in.rejected.invalid);
+  out.set_rejected_over_share(in.rejected.over_share);
+  out.set_rejected_rate_limited(in.rejected.rate_limited);
+  out.set_rejected_not_permitted(in.rejected.not_permitted);
   put_counts(in.dds, out.mutable_dds());
   put_counts(in.lcm, out.mutable_lcm());
   out.set_recorded_ns(recorded_ns);
@@ -159,9 +168,11 @@ void from_record(const msgs::StatsRecord& in, transport::StatsReport& out) {
   out.large_rotation_steps = in.large_rotation_steps();
   out.states_skipped = in.states_skipped();
   out.commands_accepted = in.commands_accepted();
-  out.rejected = {in.rejected_non_finite(),  in.rejected_unknown_body(),   in.rejected_over_limit(),
-                  in.rejected_undecodable(), in.rejected_stale_sequence(), in.rejected_queue_full(),
-                  in.rejected_invalid()};
+  out.rejected = {in.rejected_non_finite(),    in.rejected_unknown_body(),
+                  in.rejected_over_limit(),    in.rejected_undecodable(),
+                  in.rejected_stale_sequence(), in.rejected_queue_full(),
+                  in.rejected_invalid(),       in.rejected_over_share(),
+                  in.rejected_rate_limited(),  in.rejected_not_permitted()};
   out.dds = get_counts(in.dds());
   out.lcm = get_counts(in.lcm());
 }

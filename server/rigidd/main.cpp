@@ -160,8 +160,12 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   }
   systemd.stopping();
   server.stop();
-  log.line(server.closing_line());
-  if (options.verbose) log.line(server.lateness_histogram_line());
+  if (options.verbose) {
+    log.line(server.closing_line());
+    log.line(server.lateness_histogram_line());
+  } else {
+    log.line(server.short_closing_line());
+  }
   return 0;
 }
 

@@ -198,7 +198,8 @@ and takes wrenches (forces at body points) and control requests from clients on 
                      it (LCM has no security: it trusts every process that reaches it)
   --controls on|off  accept pause, resume, step, reset and rate requests (default on). With
                      --security only identities that may control can send them anyway
-  --verbose          also print the whole run's tick lateness histogram at exit
+  --verbose          at exit, the full summary (percentiles, states per bus, command-to-state
+                     latency) and the whole run's tick lateness histogram
   --check            validate the command line and the scene, print a summary and exit
   -h, --help         show this help
 

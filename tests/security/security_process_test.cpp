@@ -489,4 +489,29 @@ TEST_F(PlainRigidd, OversizedMessagesDoNotGrowItsMemory) {
   EXPECT_LT(after - before, 8 * 1024) << before << " kB before, " << after << " kB after";
 }
 
+// A CPU-bound job (a shell counting) and its wall time.
+double cpu_job_seconds() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Completed r = run_program_to_exit(
+      "/bin/sh", {"-c", "i=0; while [ $i -lt 400000 ]; do i=$((i+1)); done"}, 120s);
+  EXPECT_EQ(r.exit_code, 0);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+TEST_F(PlainRigidd, RateOf1000LeavesAnotherJobWithinTwiceItsTimeAlone) {
+  const double alone = cpu_job_seconds();  // beside rigidd at its scene's rate
+  const Completed rate = rigidctl({"rate", "1000"});
+  ASSERT_EQ(rate.exit_code, 0) << rate.err;
+  std::this_thread::sleep_for(300ms);
+  const double beside = cpu_job_seconds();
+  // The loop cannot keep 500 kHz: it falls behind on its own CPU and says so in Stats.
+  const Completed stats = rigidctl({"stats", "--once"});
+  const Completed back = rigidctl({"rate", "1"});
+  EXPECT_EQ(back.exit_code, 0) << back.err;
+  EXPECT_LT(beside, 2.0 * alone) << "alone " << alone << " s, beside rate 1000 " << beside
+                                 << " s\n"
+                                 << stats.out << daemon_->stderr_text();
+  EXPECT_NE(stats.out.find("overruns"), std::string::npos) << stats.out;
+}
+
 }  // namespace

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# DDS Security against plain DDS, side by side in one run (issue 10's targets): wrench-to-state
+# latency p50/p99 and tick lateness p99 at 1 kHz with 1000 bodies (loop_bench realtime), and the
+# states per second DDS carries from rigidd to one subscriber at 1000 bodies (loop_bench fast
+# --publish-every 1). Runs alternate plain and secure, REPEATS times each.
+#
+#   bench/security_bench.sh [--build DIR] [--duration S] [--repeats N]
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=$here/build
+duration=20
+repeats=2
+while (($#)); do
+  case $1 in
+    --build) build=$2; shift 2 ;;
+    --duration) duration=$2; shift 2 ;;
+    --repeats) repeats=$2; shift 2 ;;
+    *) echo "security_bench: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+export CYCLONEDDS_URI=${CYCLONEDDS_URI:-file://$here/config/cyclonedds.xml}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$here/scripts/rigid-keys" init "$work/ks" >/dev/null
+"$here/scripts/rigid-keys" add "$work/ks" bench --may push >/dev/null
+bench=$build/bench/loop_bench
+for ((r = 1; r <= repeats; ++r)); do
+  for kind in plain secure; do
+    sec=()
+    [[ $kind == secure ]] && sec=(--security "$work/ks")
+    echo "== run $r: $kind: realtime, 1000 bodies, ${duration} s"
+    "$bench" realtime --bodies 1000 --duration "$duration" --transport dds "${sec[@]}"
+    echo "== run $r: $kind: fast, 1000 point masses, a state every tick, 10 s"
+    "$bench" fast --bodies 1000 --duration 10 --transport dds --publish-every 1 --point-masses \
+      "${sec[@]}"
+  done
+done
