@@ -74,7 +74,7 @@ namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-using rigid::transport::Bus;
+using rigid::Bus;
 
 std::int64_t now_ns() {
   timespec ts{};
@@ -298,7 +298,7 @@ class Probe final : public rigid::transport::Receiver {
   }
   ~Probe() override { transport_.reset(); }
 
-  void on_state(const rigid::transport::StateFrame& s) override {
+  void on_state(const rigid::StateFrame& s) override {
     if (!subscribe_) return;
     const std::int64_t t = now_ns();
     const std::int64_t wall = wall_ns();
@@ -316,7 +316,7 @@ class Probe final : public rigid::transport::Receiver {
     last_v_ = v;
     have_state_ = true;
   }
-  void on_stats(const rigid::transport::StatsReport& s) override {
+  void on_stats(const rigid::StatsReport& s) override {
     const std::lock_guard lock(mutex_);
     stats_.push_back(s);
   }
@@ -327,7 +327,7 @@ class Probe final : public rigid::transport::Receiver {
   }
   // One-tick push along x, alternating sign so the velocity returns to where it was.
   void push() {
-    rigid::transport::WrenchCommand w;
+    rigid::WrenchCommand w;
     w.source = 1000 + static_cast<int>(bus_);
     w.seq = ++seq_;
     w.body_id = body_;
@@ -365,7 +365,7 @@ class Probe final : public rigid::transport::Receiver {
     const std::lock_guard lock(mutex_);
     return lost_;
   }
-  std::vector<rigid::transport::StatsReport> stats() {
+  std::vector<rigid::StatsReport> stats() {
     const std::lock_guard lock(mutex_);
     return stats_;
   }
@@ -386,7 +386,7 @@ class Probe final : public rigid::transport::Receiver {
   std::vector<double> latencies_us_;
   std::vector<double> server_us_;  // wrench sent -> state published (rigidd's stamp)
   std::vector<double> wire_us_;    // state published -> state received
-  std::vector<rigid::transport::StatsReport> stats_;
+  std::vector<rigid::StatsReport> stats_;
   std::unique_ptr<rigid::transport::Transport> transport_;
 };
 
@@ -534,9 +534,9 @@ int run(const Options& o) {
   // the LCM one's.
   std::vector<std::unique_ptr<Probe>> probes;
   for (Bus bus : o.buses)
-    probes.push_back(std::make_unique<Probe>(
-        bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers,
-        o.security.empty() ? "" : o.security + "/identities/bench"));
+    probes.push_back(
+        std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers,
+                                o.security.empty() ? "" : o.security + "/identities/bench"));
   std::vector<std::string> args{"--scene", scene,         "--mode",    o.mode,     "--prefix",
                                 prefix,    "--transport", o.transport, "--verbose"};
   args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());

@@ -20,13 +20,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 from report_common import (add_footer, fmt, fnum, md_table, read_meta,  # noqa: E402
                            read_rows)
 
-DEFAULT = "exact_rotor4"  # the project's default integrator (physics/integrator.cpp)
+DEFAULT = "hybrid4"  # the project's default integrator (physics/integrator.cpp)
 # Our integrators: theory order, and whether the scheme has the gyroscopic term (without it, it
 # converges to the wrong motion for unequal principal moments: no order to measure there).
-OURS = {"exact_rotor4": (4, True), "exact_rotor": (2, True), "rk4": (4, True), "dlm": (2, True),
+OURS = {"hybrid4": (4, True), "exact_rotor4": (4, True), "exact_rotor": (2, True), "rk4": (4, True), "dlm": (2, True),
         "implicit_gyro": (1, True), "games103": (1, False), "notes_explicit_euler": (1, False),
         "notes_midpoint": (2, False), "notes_leapfrog": (2, False)}
-OUR_STYLE = {"exact_rotor4": ("crimson", "o", 2.8), "exact_rotor": ("darkorange", "s", 1.8),
+OUR_STYLE = {"hybrid4": ("crimson", "o", 2.8), "exact_rotor4": ("firebrick", "h", 2.2), "exact_rotor": ("darkorange", "s", 1.8),
              "rk4": ("black", "^", 1.6), "dlm": ("deeppink", "v", 1.4),
              "implicit_gyro": ("saddlebrown", "D", 1.2), "games103": ("dimgray", "x", 1.0),
              "notes_explicit_euler": ("gray", "+", 0.8), "notes_midpoint": ("darkgray", "1", 0.8),

@@ -119,8 +119,8 @@ void register_all() {
                                                 {kTop, "top"},
                                                 {kPoint, "point"},
                                                 {kThruster, "thruster"}};
-  const char* integrators[] = {"exact_rotor4", "exact_rotor",   "rk4",
-                               "dlm",          "implicit_gyro", "games103"};
+  const char* integrators[] = {"hybrid4", "exact_rotor4",  "exact_rotor", "rk4",
+                               "dlm",     "implicit_gyro", "games103"};
   for (const auto& [c, cname] : cases) {
     for (const char* integ : integrators) {
       benchmark::RegisterBenchmark((std::string(cname) + "/" + integ).c_str(), BM_Step, c,

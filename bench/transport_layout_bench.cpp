@@ -22,13 +22,13 @@
 #include <span>
 #include <vector>
 
+#include "rigid/messages.hpp"
 #include "transport/dds/dds_cdr_codec.hpp"
 #include "transport/lcm/lcm_codec.hpp"
-#include "transport/messages.hpp"
 
 namespace {
 
-using rigid::transport::StateFrame;
+using rigid::StateFrame;
 
 StateFrame random_state(std::size_t bodies) {
   std::mt19937_64 rng(42);

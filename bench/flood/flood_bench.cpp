@@ -36,10 +36,10 @@ namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
+using rigid::Bus;
+using rigid::StatsReport;
 using rigid::rigidd::testing::BusClient;
 using rigid::rigidd::testing::RigiddProcess;
-using rigid::transport::Bus;
-using rigid::transport::StatsReport;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
@@ -133,7 +133,7 @@ struct Result {
   int exit_code = -1;
 };
 
-const rigid::transport::TransportCounts& counts_of(const StatsReport& s, Bus bus) {
+const rigid::TransportCounts& counts_of(const StatsReport& s, Bus bus) {
   return bus == Bus::kDds ? s.dds : s.lcm;
 }
 
@@ -163,8 +163,8 @@ Result run_bus(const Options& o, Bus bus, const std::string& scene) {
                         "realtime", "--prefix", prefix});
   BusClient monitor(bus, prefix);
   BusClient flooder(bus, prefix);
-  rigid::transport::ControlCommand harmless;
-  harmless.command = rigid::transport::ControlKind::kSetRtf;
+  rigid::ControlCommand harmless;
+  harmless.command = rigid::ControlKind::kSetRtf;
   harmless.rtf = 1.0;
   // Both clients heard (DDS discovery), and a Stats to start from.
   if (!monitor.handshake(harmless, 10s) || !flooder.handshake(harmless, 10s)) {
@@ -180,7 +180,7 @@ Result run_bus(const Options& o, Bus bus, const std::string& scene) {
   const auto end =
       t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.duration));
   std::thread flood([&] {
-    rigid::transport::WrenchCommand w;
+    rigid::WrenchCommand w;
     w.ttl = 0;  // one tick
     std::int64_t n = 0;
     for (auto now = Clock::now(); now < end; now = Clock::now()) {
@@ -204,7 +204,7 @@ Result run_bus(const Options& o, Bus bus, const std::string& scene) {
   const auto reply = monitor.request(harmless, 5s);
   if (reply) {
     r.control_ms = std::chrono::duration<double, std::milli>(Clock::now() - c0).count();
-    r.control_outcome = reply->outcome == rigid::transport::Outcome::kOk ? "ok" : reply->message;
+    r.control_outcome = reply->outcome == rigid::Outcome::kOk ? "ok" : reply->message;
   }
   // Every Stats of the flood, for its worst second.
   std::vector<StatsReport> during;

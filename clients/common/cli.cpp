@@ -5,7 +5,6 @@
 #include <cmath>
 #include <system_error>
 
-#include "transport/lcm/lcm_transport.hpp"
 #include "transport/topic.hpp"
 
 namespace rigid::clients {
@@ -18,15 +17,6 @@ constexpr std::uint32_t kMaxDomain = 232;
 
 std::string quoted(std::string_view s) {
   return "'" + std::string(s) + "'";
-}
-
-std::string describe(const BusOptions& bus) {
-  std::string text =
-      bus.bus == transport::Bus::kDds
-          ? "dds domain " + std::to_string(bus.dds_domain)
-          : "lcm " + (bus.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : bus.lcm_url);
-  if (!bus.prefix.empty()) text += ", prefix " + bus.prefix;
-  return text;
 }
 
 ArgReader::ArgReader(std::span<const std::string_view> args,
@@ -55,12 +45,12 @@ std::optional<ArgReader::Arg> ArgReader::next() {
   return Arg{name, args_[i_++]};
 }
 
-bool parse_bus_option(const ArgReader::Arg& arg, BusOptions& bus) {
+bool parse_bus_option(const ArgReader::Arg& arg, client::BusOptions& bus) {
   if (arg.name == "--transport") {
     if (arg.value == "dds") {
-      bus.bus = transport::Bus::kDds;
+      bus.bus = rigid::Bus::kDds;
     } else if (arg.value == "lcm") {
-      bus.bus = transport::Bus::kLcm;
+      bus.bus = rigid::Bus::kLcm;
     } else {
       throw UsageError("--transport: expected dds or lcm, got " + quoted(arg.value));
     }
@@ -133,8 +123,8 @@ std::int64_t parse_count(std::string_view option, std::string_view text, std::in
   return v;
 }
 
-transport::Vec3 parse_vec3(std::string_view option, std::string_view text) {
-  transport::Vec3 v{};
+rigid::Vec3 parse_vec3(std::string_view option, std::string_view text) {
+  rigid::Vec3 v{};
   std::string_view rest = text;
   for (std::size_t i = 0; i < 3; ++i) {
     const std::size_t comma = rest.find(',');

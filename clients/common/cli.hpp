@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
+#include "rigid/client/bus.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::clients {
 
@@ -27,18 +27,6 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;   // refused by the server, a bus or a file that failed
 inline constexpr int kExitUsage = 2;    // a bad command line
 inline constexpr int kExitTimeout = 3;  // the server did not answer in time
-
-// Which bus and where on it: --transport dds|lcm, --prefix P, --dds-domain N, --lcm-url URL.
-struct BusOptions {
-  transport::Bus bus = transport::Bus::kDds;
-  std::string prefix;
-  std::uint32_t dds_domain = 0;
-  std::string lcm_url;   // empty: the default (and a larger receive buffer for big states)
-  std::string security;  // --security DIR: a DDS Security identity directory; empty: none
-};
-
-// "dds domain 0" or "lcm udpm://...", plus ", prefix P" when there is one: for messages.
-std::string describe(const BusOptions& bus);
 
 // The command line as (name, value) pairs: "--name value", "--name=value", or a flag. Positional
 // arguments come back with an empty name. `flags` lists the options that take no value.
@@ -61,7 +49,7 @@ class ArgReader {
 
 // Takes --transport, --prefix, --dds-domain and --lcm-url into `bus`; false for any other name.
 // Throws UsageError for a bad value.
-bool parse_bus_option(const ArgReader::Arg& arg, BusOptions& bus);
+bool parse_bus_option(const ArgReader::Arg& arg, client::BusOptions& bus);
 // The help lines of those options.
 std::string_view bus_options_help();
 
@@ -71,7 +59,7 @@ double parse_positive(std::string_view option, std::string_view text, std::strin
                       bool allow_zero = false);
 std::int64_t parse_count(std::string_view option, std::string_view text, std::int64_t min = 1);
 // "x,y,z": three finite numbers.
-transport::Vec3 parse_vec3(std::string_view option, std::string_view text);
+rigid::Vec3 parse_vec3(std::string_view option, std::string_view text);
 std::chrono::milliseconds parse_seconds(std::string_view option, std::string_view text);
 
 std::string quoted(std::string_view s);

@@ -5,7 +5,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::clients {
 
@@ -13,7 +13,7 @@ namespace rigid::clients {
 class BodyNames {
  public:
   BodyNames() = default;
-  explicit BodyNames(const transport::SceneDescription& scene);
+  explicit BodyNames(const rigid::SceneDescription& scene);
   std::string name(std::int32_t id) const;
   bool empty() const { return names_.empty(); }
 
@@ -23,7 +23,7 @@ class BodyNames {
 
 // One row per body of `frame` (t is its sim_time), or only the bodies with `only[i]` set when
 // `only` is not empty (indexed like the frame's bodies).
-void append_frame_rows(const transport::StateFrame& frame, const BodyNames& names, std::string& out,
+void append_frame_rows(const rigid::StateFrame& frame, const BodyNames& names, std::string& out,
                        const std::vector<bool>& only = {});
 
 }  // namespace rigid::clients

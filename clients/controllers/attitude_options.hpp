@@ -13,15 +13,15 @@
 namespace rigid::controllers {
 
 struct AttitudeOptions {
-  std::string body;                  // empty: the scene's only body
-  transport::Vec3 target_rpy_deg{};  // roll, pitch, yaw of the target (deg)
-  double max_thrust = 5.0;           // N, each thruster
-  double rate_hz = 100.0;            // control rate
-  std::optional<double> arm;         // m: thruster lever arm for a body that is not a box
-  std::optional<double> duration;    // s; unset: until SIGINT/SIGTERM
-  double settle_deg = 1.0;           // "settled": within this for settle_hold
+  std::string body;                // empty: the scene's only body
+  rigid::Vec3 target_rpy_deg{};    // roll, pitch, yaw of the target (deg)
+  double max_thrust = 5.0;         // N, each thruster
+  double rate_hz = 100.0;          // control rate
+  std::optional<double> arm;       // m: thruster lever arm for a body that is not a box
+  std::optional<double> duration;  // s; unset: until SIGINT/SIGTERM
+  double settle_deg = 1.0;         // "settled": within this for settle_hold
   bool exit_when_settled = false;
-  clients::BusOptions bus;
+  client::BusOptions bus;
   std::chrono::milliseconds timeout{5000};  // for rigidd's SceneInfo and states
   bool help = false;
 };

@@ -14,8 +14,9 @@
 
 #include "attitude_control.hpp"
 #include "attitude_options.hpp"
-#include "common/session.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "rigid/client/names.hpp"
+#include "rigid/client/session.hpp"
+#include "util/signal_watcher.hpp"
 
 namespace {
 
@@ -45,22 +46,22 @@ struct Target {
 };
 
 // The target in `scene`, or nothing with the reason in `error` (one line).
-std::optional<Target> resolve(const transport::SceneDescription& scene,
+std::optional<Target> resolve(const rigid::SceneDescription& scene,
                               const controllers::AttitudeOptions& o, std::string& error) {
   std::optional<std::int32_t> id;
   if (o.body.empty()) {
     if (scene.body_count() != 1) {
       error = "the scene has " + std::to_string(scene.body_count()) + " bodies: name one (" +
-              clients::body_list(scene) + ")";
+              client::body_list(scene) + ")";
       return std::nullopt;
     }
     id = scene.ids[0];
   } else {
-    id = clients::find_body(scene, o.body);
+    id = client::find_body(scene, o.body);
   }
   if (!id) {
     error = "no body " + clients::quoted(o.body) +
-            " in the scene (bodies: " + clients::body_list(scene) + ")";
+            " in the scene (bodies: " + client::body_list(scene) + ")";
     return std::nullopt;
   }
   std::size_t index = 0;
@@ -73,7 +74,7 @@ std::optional<Target> resolve(const transport::SceneDescription& scene,
     return std::nullopt;
   }
   Vec3 half;
-  if (scene.shape_kinds[index] == transport::ShapeKind::kBox) {
+  if (scene.shape_kinds[index] == rigid::ShapeKind::kBox) {
     half = 0.5 * Vec3(scene.shape_dims[3 * index], scene.shape_dims[3 * index + 1],
                       scene.shape_dims[3 * index + 2]);
   } else if (o.arm) {
@@ -98,14 +99,14 @@ void print_holding(const controllers::AttitudeOptions& o, const Target& t) {
   std::fflush(stdout);
 }
 
-int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
-  clients::Session session(o.bus);
+int run(const controllers::AttitudeOptions& o, util::SignalWatcher& signals) {
+  client::Session session(o.bus);
   std::uint64_t generation = session.scene_generation();
   const auto scene = session.wait_scene(o.timeout);
   if (!scene) {
     std::cerr << "rigid-attitude: no SceneInfo from rigidd within "
               << static_cast<double>(o.timeout.count()) / 1000.0 << " s on "
-              << clients::describe(o.bus) << '\n';
+              << client::describe(o.bus) << '\n';
     return clients::kExitTimeout;
   }
   std::string error;
@@ -120,8 +121,8 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
   // A wrench outlives a few periods: if this controller stops, its thrust stops with it.
   const double ttl = 3.0 * seconds(period);
 
-  transport::WrenchCommand w;
-  w.force_frame = transport::Frame::kBody;
+  rigid::WrenchCommand w;
+  w.force_frame = rigid::Frame::kBody;
   w.ttl = ttl;
   const auto publish = [&](const controllers::Thrusts& u, double wrench_ttl) {
     const auto& thrusters = target->law.thrusters().thrusters();
@@ -197,7 +198,7 @@ int run(const controllers::AttitudeOptions& o, rigidd::SignalWatcher& signals) {
     if (now - last_new_state > o.timeout) {
       std::cerr << "rigid-attitude: no state from rigidd for "
                 << static_cast<double>(o.timeout.count()) / 1000.0 << " s on "
-                << clients::describe(o.bus) << '\n';
+                << client::describe(o.bus) << '\n';
       return clients::kExitTimeout;
     }
     // Only a state of the target's scene (a new rigidd's may come before its SceneInfo).
@@ -258,7 +259,7 @@ int main(int argc, char** argv) {
     return clients::kExitOk;
   }
   try {
-    rigidd::SignalWatcher signals({SIGINT, SIGTERM});  // before the bus starts its threads
+    util::SignalWatcher signals({SIGINT, SIGTERM});  // before the bus starts its threads
     return run(options, signals);
   } catch (const std::exception& e) {
     std::cerr << "rigid-attitude: " << e.what() << '\n';

@@ -110,9 +110,9 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
       o.point = clients::parse_vec3(name, value);
     } else if (name == "--frame") {
       if (value == "world") {
-        o.frame = transport::Frame::kWorld;
+        o.frame = rigid::Frame::kWorld;
       } else if (value == "body") {
-        o.frame = transport::Frame::kBody;
+        o.frame = rigid::Frame::kBody;
       } else {
         throw UsageError("--frame: expected body or world, got " + quoted(value));
       }

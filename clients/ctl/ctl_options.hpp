@@ -28,7 +28,7 @@ enum class Command {
 
 struct CtlOptions {
   Command command = Command::kBodies;
-  clients::BusOptions bus;
+  client::BusOptions bus;
   std::chrono::milliseconds timeout{5000};  // for an answer from rigidd
   bool help = false;
 
@@ -45,9 +45,9 @@ struct CtlOptions {
   double rtf = 1.0;
   // push
   std::string body;
-  transport::Vec3 force{};
-  transport::Vec3 point{};
-  transport::Frame frame = transport::Frame::kWorld;
+  rigid::Vec3 force{};
+  rigid::Vec3 point{};
+  rigid::Frame frame = rigid::Frame::kWorld;
   double for_seconds = 0.0;  // ttl: 0 = one tick
 };
 

@@ -11,19 +11,20 @@
 #include <ostream>
 #include <utility>
 
-#include "common/session.hpp"
 #include "common/state_rows.hpp"
-#include "sim/state_csv.hpp"
+#include "rigid/client/names.hpp"
+#include "rigid/client/session.hpp"
+#include "util/state_csv.hpp"
 
 namespace rigid::ctl {
 namespace {
 
 using namespace std::chrono_literals;
+using client::Session;
 using clients::kExitFailed;
 using clients::kExitOk;
 using clients::kExitTimeout;
-using clients::Session;
-using transport::ControlKind;
+using rigid::ControlKind;
 
 [[gnu::format(printf, 1, 2)]] std::string fmt(const char* format, ...) {
   char buffer[512];
@@ -37,35 +38,35 @@ using transport::ControlKind;
 std::string no_answer(const CtlOptions& o, const std::string& what) {
   return "rigidctl: no " + what + " from rigidd within " +
          fmt("%.3g", static_cast<double>(o.timeout.count()) / 1000.0) + " s on " +
-         clients::describe(o.bus) +
+         client::describe(o.bus) +
          " (is rigidd running, with the same --transport, --prefix and --dds-domain?)";
 }
 
-std::string_view shape_name(transport::ShapeKind k) {
+std::string_view shape_name(rigid::ShapeKind k) {
   switch (k) {
-    case transport::ShapeKind::kSphere:
+    case rigid::ShapeKind::kSphere:
       return "sphere";
-    case transport::ShapeKind::kBox:
+    case rigid::ShapeKind::kBox:
       return "box";
-    case transport::ShapeKind::kCylinder:
+    case rigid::ShapeKind::kCylinder:
       return "cylinder";
-    case transport::ShapeKind::kEllipsoid:
+    case rigid::ShapeKind::kEllipsoid:
       return "ellipsoid";
-    case transport::ShapeKind::kCapsule:
+    case rigid::ShapeKind::kCapsule:
       return "capsule";
-    case transport::ShapeKind::kNone:
+    case rigid::ShapeKind::kNone:
       break;
   }
   return "-";
 }
 
-std::string_view mode_name(transport::Mode m) {
+std::string_view mode_name(rigid::Mode m) {
   switch (m) {
-    case transport::Mode::kRealtime:
+    case rigid::Mode::kRealtime:
       return "realtime";
-    case transport::Mode::kFast:
+    case rigid::Mode::kFast:
       return "fast";
-    case transport::Mode::kLockstep:
+    case rigid::Mode::kLockstep:
       return "lockstep";
   }
   return "?";
@@ -77,7 +78,7 @@ int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostrea
     err << no_answer(o, "SceneInfo") << '\n';
     return kExitTimeout;
   }
-  const transport::SceneDescription& s = *scene;
+  const rigid::SceneDescription& s = *scene;
   out << "scene " << s.scene_name << '\n'
       << fmt("tick %.6g s (%.6g Hz), %d substep(s), state every %d tick(s), integrator %s\n", s.dt,
              1.0 / s.dt, s.substeps, s.publish_every, s.integrator.c_str())
@@ -90,14 +91,14 @@ int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostrea
     const double* d = &s.shape_dims[3 * i];
     out << fmt("%4d  %-16s %10.4g  %10.4g %10.4g %10.4g  %-9s", s.ids[i], s.names[i].c_str(),
                s.masses[i], I[0], I[1], I[2], std::string(shape_name(s.shape_kinds[i])).c_str());
-    if (s.shape_kinds[i] != transport::ShapeKind::kNone) out << fmt(" %g %g %g", d[0], d[1], d[2]);
+    if (s.shape_kinds[i] != rigid::ShapeKind::kNone) out << fmt(" %g %g %g", d[0], d[1], d[2]);
     out << '\n';
   }
   return kExitOk;
 }
 
 int control(const CtlOptions& o, Session& session, std::ostream& out, std::ostream& err) {
-  transport::ControlCommand c;
+  rigid::ControlCommand c;
   switch (o.command) {
     case Command::kPause:
       c.command = ControlKind::kPause;
@@ -119,15 +120,15 @@ int control(const CtlOptions& o, Session& session, std::ostream& out, std::ostre
   }
   const auto reply = session.request(c, o.timeout);
   if (!reply) {
-    err << no_answer(o, "reply to " + std::string(clients::control_name(c.command))) << '\n';
+    err << no_answer(o, "reply to " + std::string(client::control_name(c.command))) << '\n';
     return kExitTimeout;
   }
-  if (reply->outcome != transport::Outcome::kOk) {
-    err << "rigidctl: " << clients::control_name(c.command) << ": "
-        << clients::outcome_name(reply->outcome) << ": " << reply->message << '\n';
+  if (reply->outcome != rigid::Outcome::kOk) {
+    err << "rigidctl: " << client::control_name(c.command) << ": "
+        << client::outcome_name(reply->outcome) << ": " << reply->message << '\n';
     return kExitFailed;
   }
-  out << clients::control_name(c.command) << ": ok at tick " << reply->tick << '\n';
+  out << client::control_name(c.command) << ": ok at tick " << reply->tick << '\n';
   return kExitOk;
 }
 
@@ -137,10 +138,10 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
     err << no_answer(o, "SceneInfo") << '\n';
     return kExitTimeout;
   }
-  const auto body = clients::find_body(*scene, o.body);
+  const auto body = client::find_body(*scene, o.body);
   if (!body) {
     err << "rigidctl: push: no body " << clients::quoted(o.body)
-        << " in the scene (bodies: " << clients::body_list(*scene) << ")\n";
+        << " in the scene (bodies: " << client::body_list(*scene) << ")\n";
     return clients::kExitUsage;
   }
   const double f = std::hypot(o.force[0], o.force[1], o.force[2]);
@@ -155,7 +156,7 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
         << " s is above the scene's max_ttl of " << scene->max_ttl << " s\n";
     return kExitFailed;
   }
-  transport::WrenchCommand w;
+  rigid::WrenchCommand w;
   w.body_id = *body;
   w.body_name = scene->names[static_cast<std::size_t>(*body)];
   w.force = o.force;
@@ -171,7 +172,7 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
   if (!accepted) {
     err << "rigidctl: push: rigidd did not accept the wrench within "
         << fmt("%.3g", static_cast<double>(o.timeout.count()) / 1000.0) << " s on "
-        << clients::describe(o.bus)
+        << client::describe(o.bus)
         << ": it refused it (rigidd's log and 'rigidctl stats' say why) or is not running\n";
     return kExitTimeout;
   }
@@ -200,7 +201,7 @@ class HandlerScope {
 // States from the transport's thread to the main thread, which prints them.
 class StateQueue {
  public:
-  void push(const transport::StateFrame& s) {
+  void push(const rigid::StateFrame& s) {
     {
       const std::lock_guard lock(mutex_);
       if (queue_.size() >= kMax) queue_.pop_front();  // a terminal slower than the bus
@@ -209,7 +210,7 @@ class StateQueue {
     changed_.notify_one();
   }
   // Waits up to `patience` for states; takes them all.
-  std::deque<transport::StateFrame> take(std::chrono::milliseconds patience) {
+  std::deque<rigid::StateFrame> take(std::chrono::milliseconds patience) {
     std::unique_lock lock(mutex_);
     changed_.wait_for(lock, patience, [&] { return !queue_.empty(); });
     return std::exchange(queue_, {});
@@ -219,10 +220,10 @@ class StateQueue {
   static constexpr std::size_t kMax = 10000;
   std::mutex mutex_;
   std::condition_variable changed_;
-  std::deque<transport::StateFrame> queue_;
+  std::deque<rigid::StateFrame> queue_;
 };
 
-void print_table(const transport::StateFrame& f, const transport::SceneDescription& scene,
+void print_table(const rigid::StateFrame& f, const rigid::SceneDescription& scene,
                  const std::vector<bool>& only, bool tty, std::ostream& out) {
   if (tty) out << "\x1b[H\x1b[2J";  // redraw in place, like watch(1)
   out << fmt("tick %lld  t = %.3f s\n", static_cast<long long>(f.tick), f.sim_time);
@@ -245,16 +246,16 @@ void print_table(const transport::StateFrame& f, const transport::SceneDescripti
 
 // Which bodies echo prints, by their index in the state (ids in scene order); empty: all. False
 // (and the reason on err) if one of them is not in the scene.
-bool select_bodies(const CtlOptions& o, const transport::SceneDescription& scene,
+bool select_bodies(const CtlOptions& o, const rigid::SceneDescription& scene,
                    std::vector<bool>& only, std::ostream& err) {
   only.clear();
   if (o.bodies.empty()) return true;
   only.assign(scene.body_count(), false);
   for (const std::string& b : o.bodies) {
-    const auto id = clients::find_body(scene, b);
+    const auto id = client::find_body(scene, b);
     if (!id) {
       err << "rigidctl: echo: no body " << clients::quoted(b)
-          << " in the scene (bodies: " << clients::body_list(scene) << ")\n";
+          << " in the scene (bodies: " << client::body_list(scene) << ")\n";
       return false;
     }
     for (std::size_t i = 0; i < scene.ids.size(); ++i)
@@ -263,11 +264,11 @@ bool select_bodies(const CtlOptions& o, const transport::SceneDescription& scene
   return true;
 }
 
-int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, std::ostream& out,
+int echo(const CtlOptions& o, Session& session, util::SignalWatcher& signals, std::ostream& out,
          std::ostream& err) {
   StateQueue queue;
   const HandlerScope handlers(session);
-  session.on_each_state([&](const transport::StateFrame& s) { queue.push(s); });
+  session.on_each_state([&](const rigid::StateFrame& s) { queue.push(s); });
   std::uint64_t generation = session.scene_generation();
   auto scene = session.wait_scene(o.timeout);
   if (!scene) {
@@ -285,7 +286,7 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
   auto last_state = std::chrono::steady_clock::now();
   std::int64_t printed = 0;
   std::string text;
-  if (o.csv) out << sim::kStateCsvHeader;
+  if (o.csv) out << util::kStateCsvHeader;
   while (!o.count || printed < *o.count) {
     if (signals.wait(0ms)) break;
     auto states = queue.take(100ms);
@@ -310,7 +311,7 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
       next_output = now + period;
       states.erase(states.begin(), states.end() - 1);  // the newest only
     }
-    for (const transport::StateFrame& s : states) {
+    for (const rigid::StateFrame& s : states) {
       // Not this scene's (a new rigidd whose SceneInfo has not arrived yet): names would be wrong.
       if (s.ids != scene->ids) continue;
       if (o.csv) {
@@ -327,8 +328,8 @@ int echo(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, 
   return kExitOk;
 }
 
-void print_stats(const transport::StatsReport& s, std::ostream& out) {
-  const transport::RejectCounts& r = s.rejected;
+void print_stats(const rigid::StatsReport& s, std::ostream& out) {
+  const rigid::RejectCounts& r = s.rejected;
   const std::int64_t refused = r.non_finite + r.unknown_body + r.over_limit + r.undecodable +
                                r.stale_sequence + r.queue_full + r.invalid + r.over_share +
                                r.rate_limited + r.not_permitted;
@@ -351,7 +352,7 @@ void print_stats(const transport::StatsReport& s, std::ostream& out) {
              static_cast<long long>(r.stale_sequence), static_cast<long long>(r.queue_full),
              static_cast<long long>(r.invalid), static_cast<long long>(r.over_share),
              static_cast<long long>(r.rate_limited), static_cast<long long>(r.not_permitted));
-  for (const transport::SourceRefusals& by : s.refused_by_source) {
+  for (const rigid::SourceRefusals& by : s.refused_by_source) {
     out << fmt("  refused from %s: %lld (last: %s)\n", by.sender.c_str(),
                static_cast<long long>(by.count), by.last_reason.c_str());
   }
@@ -363,13 +364,13 @@ void print_stats(const transport::StatsReport& s, std::ostream& out) {
   out.flush();
 }
 
-int stats(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals, std::ostream& out,
+int stats(const CtlOptions& o, Session& session, util::SignalWatcher& signals, std::ostream& out,
           std::ostream& err) {
   std::mutex mutex;
   std::condition_variable changed;
-  std::deque<transport::StatsReport> reports;
+  std::deque<rigid::StatsReport> reports;
   const HandlerScope handlers(session);
-  session.on_each_stats([&](const transport::StatsReport& s) {
+  session.on_each_stats([&](const rigid::StatsReport& s) {
     {
       const std::lock_guard lock(mutex);
       reports.push_back(s);
@@ -407,11 +408,11 @@ int stats(const CtlOptions& o, Session& session, rigidd::SignalWatcher& signals,
 
 }  // namespace
 
-int run(const CtlOptions& o, rigidd::SignalWatcher& signals, std::ostream& out, std::ostream& err) {
+int run(const CtlOptions& o, util::SignalWatcher& signals, std::ostream& out, std::ostream& err) {
   std::unique_ptr<Session> session;
   try {
     session = std::make_unique<Session>(o.bus);
-  } catch (const transport::TransportError& e) {
+  } catch (const client::BusError& e) {
     err << "rigidctl: " << e.what() << '\n';
     return kExitFailed;
   }

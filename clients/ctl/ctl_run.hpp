@@ -5,12 +5,12 @@
 #include <iosfwd>
 
 #include "ctl/ctl_options.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 namespace rigid::ctl {
 
 // `signals` (SIGINT, SIGTERM) end echo and stats; it must exist before any thread starts.
-int run(const CtlOptions& options, rigidd::SignalWatcher& signals, std::ostream& out,
+int run(const CtlOptions& options, util::SignalWatcher& signals, std::ostream& out,
         std::ostream& err);
 
 }  // namespace rigid::ctl

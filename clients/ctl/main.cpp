@@ -9,7 +9,7 @@
 
 #include "ctl/ctl_options.hpp"
 #include "ctl/ctl_run.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 int main(int argc, char** argv) {
   using namespace rigid;
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   }
   try {
     // Before the bus starts its threads: they inherit the blocked signals.
-    rigidd::SignalWatcher signals({SIGINT, SIGTERM});
+    util::SignalWatcher signals({SIGINT, SIGTERM});
     return ctl::run(options, signals, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "rigidctl: " << e.what() << '\n';

@@ -7,10 +7,10 @@
 #include "record/lcm_log.hpp"
 #include "records/log_records.hpp"
 #include "records/record_file.hpp"
-#include "sim/atomic_file.hpp"
-#include "sim/state_csv.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
+#include "util/atomic_file.hpp"
+#include "util/state_csv.hpp"
 
 namespace rigid::record {
 namespace {
@@ -26,8 +26,8 @@ struct Exported {
 // The CSV being written: rows buffered, then handed to the AtomicFile.
 class CsvOut {
  public:
-  explicit CsvOut(const std::string& path) : file_(path) { text_ += sim::kStateCsvHeader; }
-  void add(const transport::StateFrame& f, const clients::BodyNames& names, Exported& e) {
+  explicit CsvOut(const std::string& path) : file_(path) { text_ += util::kStateCsvHeader; }
+  void add(const rigid::StateFrame& f, const clients::BodyNames& names, Exported& e) {
     clients::append_frame_rows(f, names, text_);
     ++e.states;
     e.rows += static_cast<std::int64_t>(f.body_count());
@@ -42,7 +42,7 @@ class CsvOut {
   }
 
  private:
-  sim::AtomicFile file_;
+  util::AtomicFile file_;
   std::string text_;
 };
 
@@ -57,8 +57,8 @@ Exported from_rigid_log(const RecordOptions& o) {
   Exported e;
   clients::BodyNames names;
   msgs::LogRecord r;
-  transport::StateFrame frame;
-  transport::SceneDescription scene;
+  rigid::StateFrame frame;
+  rigid::SceneDescription scene;
   while (reader.next(r)) {
     if (r.has_header() && records::from_record(r.header().scene(), scene)) {
       names = clients::BodyNames(scene);
@@ -120,7 +120,7 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
   }
   const auto [state_channel, scene_channel] = lcm_channels(o, seen);
   transport::lcm::Codec codec;
-  transport::SceneDescription scene;
+  rigid::SceneDescription scene;
   clients::BodyNames names;
   {
     LcmLogReader reader(o.file);
@@ -141,7 +141,7 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
   CsvOut csv(o.csv);
   Exported e;
   LcmEvent event;
-  transport::StateFrame frame;
+  rigid::StateFrame frame;
   std::int64_t undecodable = 0;
   while (reader.next(event)) {
     if (event.channel != state_channel) continue;

@@ -12,7 +12,7 @@
 #include "record/player.hpp"
 #include "record/record_options.hpp"
 #include "record/recorder.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 int main(int argc, char** argv) {
   using namespace rigid;
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
       case record::Command::kRecord:
       case record::Command::kPlay: {
         // Before the bus starts its threads: they inherit the blocked signals.
-        rigidd::SignalWatcher signals({SIGINT, SIGTERM});
+        util::SignalWatcher signals({SIGINT, SIGTERM});
         return options.command == record::Command::kRecord
                    ? record::record(options, signals, std::cerr)
                    : record::play(options, signals, std::cerr);

@@ -3,10 +3,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 #include <ostream>
 #include <thread>
 
-#include "common/session.hpp"
+#include "connect.hpp"
 #include "records/log_records.hpp"
 #include "records/record_file.hpp"
 
@@ -24,7 +25,7 @@ std::int64_t unix_ns() {
 
 }  // namespace
 
-int play(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& err) {
+int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
   try {
     records::RecordReader reader(o.file);
     msgs::LogRecord r;
@@ -33,13 +34,15 @@ int play(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& e
           << ": not a recording (rigid-record info says what it is)\n";
       return clients::kExitFailed;
     }
-    transport::SceneDescription scene;
+    rigid::SceneDescription scene;
     records::from_record(r.header().scene(), scene);
-    // The server's role: this stands in for rigidd.
-    clients::Session session(o.bus, transport::Role::kServer);
-    (void)session.transport().publish(scene);
+    // The server's role: this stands in for rigidd (and hears no one: commands are ignored).
+    transport::Receiver deaf;
+    const std::unique_ptr<transport::Transport> bus =
+        client::connect(o.bus, transport::Role::kServer, deaf);
+    (void)bus->publish(scene);
     const bool tty = ::isatty(STDERR_FILENO) == 1;
-    transport::StateFrame frame;
+    rigid::StateFrame frame;
     std::int64_t played = 0;
     std::optional<std::int64_t> first_ns;
     const auto start = Clock::now();
@@ -48,7 +51,7 @@ int play(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& e
     while (reader.next(r)) {
       if (r.has_scene()) {
         records::from_record(r.scene(), scene);
-        (void)session.transport().publish(scene);
+        (void)bus->publish(scene);
         continue;
       }
       if (!r.has_state() || !records::from_record(r.state(), frame)) continue;
@@ -65,11 +68,11 @@ int play(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& e
         }
       }
       frame.stamp_ns = unix_ns();
-      (void)session.transport().publish(frame);
+      (void)bus->publish(frame);
       ++played;
       const auto now = Clock::now();
       if (now >= next_scene) {  // LCM has no late-joiner durability: as rigidd, once a second
-        (void)session.transport().publish(scene);
+        (void)bus->publish(scene);
         next_scene = now + 1s;
       }
       if (now >= next_line) {
@@ -89,7 +92,7 @@ int play(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& e
   } catch (const records::LogFileError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
-  } catch (const transport::TransportError& e) {
+  } catch (const client::BusError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }

@@ -7,10 +7,10 @@
 #include <iosfwd>
 
 #include "record/record_options.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 namespace rigid::record {
 
-int play(const RecordOptions& options, rigidd::SignalWatcher& signals, std::ostream& err);
+int play(const RecordOptions& options, util::SignalWatcher& signals, std::ostream& err);
 
 }  // namespace rigid::record

@@ -62,7 +62,7 @@ RecordOptions parse_options(std::span<const std::string_view> args) {
   if (!command) throw UsageError("missing the command (record, info, export, play; see --help)");
   o.command = *command;
   for (const auto& arg : options) {
-    clients::BusOptions probe;
+    client::BusOptions probe;
     const bool bus_option = clients::parse_bus_option(arg, probe);
     if (!takes(o.command, arg.name, bus_option)) {
       throw UsageError("unknown option " + quoted(arg.name) + " for " + std::string(command_name) +

@@ -17,7 +17,7 @@ enum class Command { kRecord, kInfo, kExport, kPlay };
 struct RecordOptions {
   Command command = Command::kRecord;
   std::string file;  // record: the output; info, export, play: the input
-  clients::BusOptions bus;
+  client::BusOptions bus;
   bool bus_prefix_given = false;            // export: --prefix picks an LCM log's channels
   std::chrono::milliseconds timeout{5000};  // record: for rigidd's SceneInfo
   std::optional<double> duration;           // record: seconds; unset: until SIGINT/SIGTERM

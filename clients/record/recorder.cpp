@@ -10,9 +10,10 @@
 #include <ostream>
 #include <utility>
 
-#include "common/session.hpp"
 #include "records/log_records.hpp"
 #include "records/record_file.hpp"
+#include "rigid/client/names.hpp"
+#include "rigid/client/session.hpp"
 #include "transport/lcm/lcm_transport.hpp"
 
 namespace rigid::record {
@@ -102,7 +103,7 @@ std::string live_line(const std::string& path, double seconds, const Counts& c, 
   return line;
 }
 
-msgs::LogHeader header(const RecordOptions& o, const transport::SceneDescription& scene) {
+msgs::LogHeader header(const RecordOptions& o, const rigid::SceneDescription& scene) {
   msgs::LogHeader h;
   h.set_kind(msgs::LogHeader::RECORDING);
   h.set_schema_version(records::kLogSchemaVersion);
@@ -112,7 +113,7 @@ msgs::LogHeader header(const RecordOptions& o, const transport::SceneDescription
   records::to_record(scene, 0, *h.mutable_scene());
   h.set_integrator(scene.integrator);
   h.set_rate_hz(scene.dt > 0 ? 1.0 / scene.dt : 0.0);
-  const bool dds = o.bus.bus == transport::Bus::kDds;
+  const bool dds = o.bus.bus == rigid::Bus::kDds;
   h.set_transport(dds ? "dds" : "lcm");
   h.set_prefix(o.bus.prefix);
   h.set_address(
@@ -123,7 +124,7 @@ msgs::LogHeader header(const RecordOptions& o, const transport::SceneDescription
 
 }  // namespace
 
-int record(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream& err) {
+int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
   // The file first: a name that cannot be used fails at once, not after the wait for rigidd.
   std::optional<records::RecordWriter> file;
   try {
@@ -133,31 +134,31 @@ int record(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream&
     return clients::kExitFailed;
   }
   RecordQueue queue;
-  std::optional<transport::SceneDescription> last_scene;
+  std::optional<rigid::SceneDescription> last_scene;
   std::mutex scene_mutex;
-  std::unique_ptr<clients::Session> session;
+  std::unique_ptr<client::Session> session;
   try {
-    session = std::make_unique<clients::Session>(o.bus);
-  } catch (const transport::TransportError& e) {
+    session = std::make_unique<client::Session>(o.bus);
+  } catch (const client::BusError& e) {
     err << "rigid-record: " << e.what() << '\n';
     file.reset();
     std::filesystem::remove(o.file);
     return clients::kExitFailed;
   }
-  session->on_each_state([&](const transport::StateFrame& s) {
+  session->on_each_state([&](const rigid::StateFrame& s) {
     queue.push(
         [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_state()); });
   });
-  session->on_each_stats([&](const transport::StatsReport& s) {
+  session->on_each_stats([&](const rigid::StatsReport& s) {
     queue.push(
         [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_stats()); });
   });
-  session->on_each_accepted([&](const transport::AcceptedCommand& a) {
+  session->on_each_accepted([&](const rigid::AcceptedCommand& a) {
     queue.push([&](msgs::LogRecord& r, std::int64_t t) {
       records::to_record(a, t, *r.mutable_command());
     });
   });
-  session->on_each_scene([&](const transport::SceneDescription& s) {
+  session->on_each_scene([&](const rigid::SceneDescription& s) {
     // LCM repeats the scene every second: keep it only when it changes.
     {
       const std::lock_guard lock(scene_mutex);
@@ -171,7 +172,7 @@ int record(const RecordOptions& o, rigidd::SignalWatcher& signals, std::ostream&
   const auto scene = session->wait_scene(o.timeout);
   if (!scene) {
     err << "rigid-record: no SceneInfo from rigidd within "
-        << static_cast<double>(o.timeout.count()) / 1000.0 << " s on " << clients::describe(o.bus)
+        << static_cast<double>(o.timeout.count()) / 1000.0 << " s on " << client::describe(o.bus)
         << " (is rigidd running, with the same --transport, --prefix and --dds-domain?); " << o.file
         << " not written\n";
     session.reset();

@@ -11,7 +11,7 @@
 #include <iosfwd>
 
 #include "record/record_options.hpp"
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 namespace rigid::record {
 
@@ -19,6 +19,6 @@ inline constexpr std::chrono::milliseconds kFlushPeriod{100};
 inline constexpr std::size_t kMaxQueuedBytes = 256u << 20;
 
 // Returns the exit status; the live line and the closing summary go to `err`.
-int record(const RecordOptions& options, rigidd::SignalWatcher& signals, std::ostream& err);
+int record(const RecordOptions& options, util::SignalWatcher& signals, std::ostream& err);
 
 }  // namespace rigid::record

@@ -9,12 +9,12 @@
 #include <string_view>
 #include <type_traits>
 
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::loop {
 
-// Why a command was refused; mirrors transport::RejectCounts (Stats.rejected).
+// Why a command was refused; mirrors rigid::RejectCounts (Stats.rejected).
 enum class RejectReason : std::uint8_t {
   kNonFinite,      // NaN or infinity in a number
   kUnknownBody,    // no body with that id or name
@@ -29,8 +29,6 @@ enum class RejectReason : std::uint8_t {
 };
 inline constexpr int kRejectReasonCount = 10;
 std::string_view to_string(RejectReason reason);
-
-using Vec3 = std::array<double, 3>;
 
 // Who sent a command, as the loop accounts for it. The key is what shares (of the wrench table,
 // of the command rate) and refusal counts are kept by: with DDS Security the authenticated
@@ -52,9 +50,9 @@ struct Wrench {
   std::int32_t body = 0;
   Vec3 force{};  // N, in force_frame
   Vec3 point{};  // m, from the centre of mass, in B
-  transport::Frame force_frame = transport::Frame::kWorld;
+  rigid::Frame force_frame = rigid::Frame::kWorld;
   Vec3 torque{};  // N m, in torque_frame
-  transport::Frame torque_frame = transport::Frame::kWorld;
+  rigid::Frame torque_frame = rigid::Frame::kWorld;
   double ttl = 0.0;           // s of simulated time; 0: one tick
   std::int64_t stamp_ns = 0;  // the sender's stamp (CLOCK_REALTIME), passed through
 };
@@ -64,7 +62,7 @@ struct Wrench {
 struct Control {
   std::int64_t source = 0;
   std::int64_t seq = 0;
-  transport::ControlKind kind = transport::ControlKind::kNone;
+  rigid::ControlKind kind = rigid::ControlKind::kNone;
   std::int64_t steps = 0;
   double rtf = 0.0;
 };
@@ -72,8 +70,8 @@ struct Control {
 struct Command {
   enum class Kind : std::uint8_t { kWrench, kControl };
   Kind kind = Kind::kWrench;
-  transport::Bus bus = transport::Bus::kDds;  // where it came from (a control is answered there)
-  std::int64_t arrival_ns = 0;                // CLOCK_MONOTONIC when the intake received it
+  rigid::Bus bus = rigid::Bus::kDds;  // where it came from (a control is answered there)
+  std::int64_t arrival_ns = 0;        // CLOCK_MONOTONIC when the intake received it
   Sender sender;
   // Sequence numbers are kept per bus, client session and source (sequence_table.hpp), so a
   // restarted or reconnected client, or one identity's traffic, never makes another's stale.
@@ -105,11 +103,11 @@ std::string_view to_string(ReplyNote note);
 
 // The answer to one control request, routed to the bus it came from.
 struct Reply {
-  transport::Bus bus = transport::Bus::kDds;
+  rigid::Bus bus = rigid::Bus::kDds;
   std::int64_t source = 0;
   std::int64_t seq = 0;
-  transport::ControlKind kind = transport::ControlKind::kNone;
-  transport::Outcome outcome = transport::Outcome::kOk;
+  rigid::ControlKind kind = rigid::ControlKind::kNone;
+  rigid::Outcome outcome = rigid::Outcome::kOk;
   std::int64_t tick = 0;
   ReplyNote note = ReplyNote::kNone;
   std::int64_t detail = 0;  // a number the note refers to (the last sequence, the step count)

@@ -29,8 +29,8 @@ std::string vec(const Vec3& v) {
   return "(" + num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]) + ")";
 }
 
-bool known_frame(transport::Frame f) {
-  return f == transport::Frame::kWorld || f == transport::Frame::kBody;
+bool known_frame(rigid::Frame f) {
+  return f == rigid::Frame::kWorld || f == rigid::Frame::kBody;
 }
 
 template <class T>
@@ -57,7 +57,7 @@ int BodyDirectory::find(std::string_view name) const {
   return it != sorted_.end() && it->first == name ? it->second : -1;
 }
 
-Checked<Wrench> CommandValidator::check(const transport::WrenchCommand& w) const {
+Checked<Wrench> CommandValidator::check(const rigid::WrenchCommand& w) const {
   using R = RejectReason;
   // Built only for a refusal: a valid command (the common case) allocates nothing here.
   const auto who = [&w] {
@@ -127,9 +127,8 @@ Checked<Wrench> CommandValidator::check(const transport::WrenchCommand& w) const
   return c;
 }
 
-Checked<Control> CommandValidator::check(const transport::ControlCommand& m,
-                                         ReplyNote* note) const {
-  using K = transport::ControlKind;
+Checked<Control> CommandValidator::check(const rigid::ControlCommand& m, ReplyNote* note) const {
+  using K = rigid::ControlKind;
   using R = RejectReason;
   const auto who = [&m] {
     return "control from source " + std::to_string(m.source) + " seq " + std::to_string(m.seq) +

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "loop/command.hpp"
+#include "rigid/messages.hpp"
 #include "scene/scene.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::loop {
 
@@ -46,10 +46,10 @@ class CommandValidator {
 
   // Checks, in order: finite numbers, known body, frames, limits (|force| <= max_force;
   // |torque| and the moment |point x force| <= max_torque; 0 <= ttl <= max_ttl).
-  Checked<Wrench> check(const transport::WrenchCommand& wrench) const;
+  Checked<Wrench> check(const rigid::WrenchCommand& wrench) const;
   // Checks the command is known and its argument well-formed (step: steps >= 1; set_rtf: finite,
   // 0 < rtf <= kMaxRtf). A refused control carries the reply note in `note`.
-  Checked<Control> check(const transport::ControlCommand& control, ReplyNote* note) const;
+  Checked<Control> check(const rigid::ControlCommand& control, ReplyNote* note) const;
 
   const BodyDirectory& bodies() const { return bodies_; }
   const scene::Limits& limits() const { return limits_; }

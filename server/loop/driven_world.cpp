@@ -7,8 +7,8 @@ physics::Vec3 eigen(const Vec3& v) {
   return {v[0], v[1], v[2]};
 }
 
-physics::Frame frame_of(transport::Frame f) {
-  return f == transport::Frame::kBody ? physics::Frame::kBody : physics::Frame::kWorld;
+physics::Frame frame_of(rigid::Frame f) {
+  return f == rigid::Frame::kBody ? physics::Frame::kBody : physics::Frame::kWorld;
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ double burst_of(double rate) {
 
 }  // namespace
 
-Sender sender_of(transport::Bus bus, const transport::Origin& origin) {
+Sender sender_of(rigid::Bus bus, const transport::Origin& origin) {
   Sender s;
   if (origin.authenticated) {
     s.key = hash_name(origin.identity);
@@ -45,8 +45,8 @@ Sender sender_of(transport::Bus bus, const transport::Origin& origin) {
       if (s.name[i] < 0x20 || s.name[i] >= 0x7f) s.name[i] = '?';
     return s;
   }
-  s.key = mix64(origin.session ^ (bus == transport::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
-  if (bus == transport::Bus::kDds) {
+  s.key = mix64(origin.session ^ (bus == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  if (bus == rigid::Bus::kDds) {
     std::snprintf(s.name, sizeof s.name, "dds:%016llx",
                   static_cast<unsigned long long>(origin.session));
   } else {
@@ -62,7 +62,7 @@ std::uint64_t owner_of(const transport::Origin& origin) {
   return origin.authenticated ? hash_name(origin.identity) : 0;
 }
 
-Intake::Intake(transport::Bus bus, const CommandValidator& validator, const IntakePolicy& policy,
+Intake::Intake(rigid::Bus bus, const CommandValidator& validator, const IntakePolicy& policy,
                BoundedQueue<Command>& queue, Doorbell& doorbell, RejectCounters& rejects,
                ReplySink& replies)
     : bus_(bus),
@@ -81,15 +81,15 @@ bool Intake::enqueue(Command& command) {
   return true;
 }
 
-void answer_refused_wrench(ReplySink& replies, RejectCounters& rejects, transport::Bus bus,
+void answer_refused_wrench(ReplySink& replies, RejectCounters& rejects, rigid::Bus bus,
                            std::int64_t source, std::int64_t seq, const Sender& sender,
                            std::string_view why, std::int64_t tick) {
   if (!rejects.reply_allowed(sender, monotonic_ns())) return;
   Reply reply{bus,
               source,
               seq,
-              transport::kReplyToWrench,
-              transport::Outcome::kInvalid,
+              rigid::kReplyToWrench,
+              rigid::Outcome::kInvalid,
               tick,
               ReplyNote::kWrenchRefused,
               0};
@@ -99,14 +99,14 @@ void answer_refused_wrench(ReplySink& replies, RejectCounters& rejects, transpor
   replies.reply(reply);
 }
 
-void Intake::refuse_wrench(const transport::WrenchCommand& wrench, const Sender& sender,
+void Intake::refuse_wrench(const rigid::WrenchCommand& wrench, const Sender& sender,
                            RejectReason reason, const std::string& detail) {
   rejects_.record(reason, detail, &sender);
   answer_refused_wrench(replies_, rejects_, bus_, wrench.source, wrench.seq, sender,
                         std::string(to_string(reason)) + ": " + detail, 0);
 }
 
-void Intake::on_wrench(const transport::WrenchCommand& wrench, const transport::Origin& origin) {
+void Intake::on_wrench(const rigid::WrenchCommand& wrench, const transport::Origin& origin) {
   const Sender sender = sender_of(bus_, origin);
   const auto who = [&] {
     return "wrench from " + std::string(sender.name) + " source " + std::to_string(wrench.source) +
@@ -143,7 +143,7 @@ void Intake::on_wrench(const transport::WrenchCommand& wrench, const transport::
   command.wrench = checked.value;
   command.wrench.owner = owner_of(origin);
   command.session_key = mix64(origin.session ^ command.wrench.owner ^
-                              (bus_ == transport::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+                              (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
   if (!enqueue(command)) {
     char detail[200];
     std::snprintf(detail, sizeof detail,
@@ -153,13 +153,13 @@ void Intake::on_wrench(const transport::WrenchCommand& wrench, const transport::
   }
 }
 
-void Intake::on_control(const transport::ControlCommand& control, const transport::Origin& origin) {
+void Intake::on_control(const rigid::ControlCommand& control, const transport::Origin& origin) {
   const Sender sender = sender_of(bus_, origin);
   Reply reply{bus_,
               control.source,
               control.seq,
               control.command,
-              transport::Outcome::kInvalid,
+              rigid::Outcome::kInvalid,
               0,
               ReplyNote::kNone,
               0};
@@ -172,7 +172,7 @@ void Intake::on_control(const transport::ControlCommand& control, const transpor
                     who() + (policy_.controls ? "not from an authenticated control/IDENTITY writer"
                                               : "controls are off (rigidd --controls off)"),
                     &sender);
-    reply.outcome = transport::Outcome::kNotAllowed;
+    reply.outcome = rigid::Outcome::kNotAllowed;
     reply.note = ReplyNote::kNotPermitted;
     if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
     return;
@@ -180,7 +180,7 @@ void Intake::on_control(const transport::ControlCommand& control, const transpor
   if (!rates_.take(sender.key, monotonic_ns())) {
     rejects_.record(RejectReason::kRateLimited,
                     who() + "above the sender's share of the command rate", &sender);
-    reply.outcome = transport::Outcome::kNotAllowed;
+    reply.outcome = rigid::Outcome::kNotAllowed;
     reply.note = ReplyNote::kRateLimited;
     if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
     return;
@@ -198,13 +198,13 @@ void Intake::on_control(const transport::ControlCommand& control, const transpor
   command.bus = bus_;
   command.sender = sender;
   command.session_key = mix64(origin.session ^ owner_of(origin) ^
-                              (bus_ == transport::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+                              (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
   command.control = checked.value;
   if (!enqueue(command)) {
     rejects_.recordf(RejectReason::kQueueFull, &sender,
                      "command queue full (%zu): control from %s seq %lld dropped",
                      queue_.capacity(), sender.name, static_cast<long long>(control.seq));
-    reply.outcome = transport::Outcome::kFailed;
+    reply.outcome = rigid::Outcome::kFailed;
     reply.note = ReplyNote::kQueueFull;
     replies_.reply(reply);
   }

@@ -25,27 +25,26 @@ struct IntakePolicy {
 };
 
 // The sender of a command from its origin on `bus` (Sender::key and a printable name).
-Sender sender_of(transport::Bus bus, const transport::Origin& origin);
+Sender sender_of(rigid::Bus bus, const transport::Origin& origin);
 // 0 without security, else a hash of the identity.
 std::uint64_t owner_of(const transport::Origin& origin);
 
 class Intake final : public transport::Receiver {
  public:
-  Intake(transport::Bus bus, const CommandValidator& validator, const IntakePolicy& policy,
+  Intake(rigid::Bus bus, const CommandValidator& validator, const IntakePolicy& policy,
          BoundedQueue<Command>& queue, Doorbell& doorbell, RejectCounters& rejects,
          ReplySink& replies);
 
-  void on_wrench(const transport::WrenchCommand& wrench, const transport::Origin& origin) override;
-  void on_control(const transport::ControlCommand& control,
-                  const transport::Origin& origin) override;
+  void on_wrench(const rigid::WrenchCommand& wrench, const transport::Origin& origin) override;
+  void on_control(const rigid::ControlCommand& control, const transport::Origin& origin) override;
   void on_decode_error(const transport::DecodeError& error) override;
 
  private:
   bool enqueue(Command& command);
-  void refuse_wrench(const transport::WrenchCommand& wrench, const Sender& sender,
-                     RejectReason reason, const std::string& detail);
+  void refuse_wrench(const rigid::WrenchCommand& wrench, const Sender& sender, RejectReason reason,
+                     const std::string& detail);
 
-  const transport::Bus bus_;
+  const rigid::Bus bus_;
   const CommandValidator& validator_;
   const IntakePolicy policy_;
   BoundedQueue<Command>& queue_;
@@ -56,7 +55,7 @@ class Intake final : public transport::Receiver {
 };
 
 // Answers a refused wrench on its bus if its sender has replies left this second.
-void answer_refused_wrench(ReplySink& replies, RejectCounters& rejects, transport::Bus bus,
+void answer_refused_wrench(ReplySink& replies, RejectCounters& rejects, rigid::Bus bus,
                            std::int64_t source, std::int64_t seq, const Sender& sender,
                            std::string_view why, std::int64_t tick);
 

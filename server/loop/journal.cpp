@@ -86,7 +86,7 @@ void Journal::write(const JournalEntry& entry) {
     append(record_);
     return;
   }
-  const transport::AcceptedCommand accepted = accepted_command(entry);
+  const rigid::AcceptedCommand accepted = accepted_command(entry);
   if (on_command_) on_command_(accepted);
   if (file_) {
     records::to_record(accepted, monotonic_ns() - start_ns_, *record_.mutable_command());

@@ -33,7 +33,7 @@ class Journal {
     // journals 10^4 entries a second.
     std::size_t capacity = 16384;
   };
-  using CommandSink = std::function<void(const transport::AcceptedCommand&)>;
+  using CommandSink = std::function<void(const rigid::AcceptedCommand&)>;
 
   // Creates the file and writes `header` (throws LogFileError, one line naming the file).
   Journal(const Options& options, const msgs::LogHeader& header, Log& log, CommandSink on_command);

@@ -2,11 +2,11 @@
 
 namespace rigid::loop {
 
-transport::AcceptedCommand accepted_command(const JournalEntry& e) {
-  transport::AcceptedCommand a;
+rigid::AcceptedCommand accepted_command(const JournalEntry& e) {
+  rigid::AcceptedCommand a;
   a.tick = e.tick;
   if (e.kind == JournalEntry::Kind::kControl) {
-    a.kind = transport::AcceptedKind::kControl;
+    a.kind = rigid::AcceptedKind::kControl;
     a.source = e.control.source;
     a.seq = e.control.seq;
     a.command = e.control.kind;
@@ -15,7 +15,7 @@ transport::AcceptedCommand accepted_command(const JournalEntry& e) {
     return a;
   }
   const Wrench& w = e.wrench;
-  a.kind = transport::AcceptedKind::kWrench;
+  a.kind = rigid::AcceptedKind::kWrench;
   a.source = w.source;
   a.seq = w.seq;
   a.key = w.key;
@@ -30,7 +30,7 @@ transport::AcceptedCommand accepted_command(const JournalEntry& e) {
   return a;
 }
 
-Wrench wrench_of(const transport::AcceptedCommand& a) {
+Wrench wrench_of(const rigid::AcceptedCommand& a) {
   Wrench w;
   w.source = a.source;
   w.seq = a.seq;

@@ -13,7 +13,7 @@
 #include <type_traits>
 
 #include "loop/command.hpp"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
@@ -28,8 +28,8 @@ struct JournalEntry {
 static_assert(std::is_trivially_copyable_v<JournalEntry>);
 
 // A command entry as the rigid/accepted message (and the journal's CommandRecord).
-transport::AcceptedCommand accepted_command(const JournalEntry& entry);
+rigid::AcceptedCommand accepted_command(const JournalEntry& entry);
 // The wrench an accepted kWrench command carries, as the loop applied it.
-Wrench wrench_of(const transport::AcceptedCommand& accepted);
+Wrench wrench_of(const rigid::AcceptedCommand& accepted);
 
 }  // namespace rigid::loop

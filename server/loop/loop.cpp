@@ -14,9 +14,9 @@
 namespace rigid::loop {
 namespace {
 
-using transport::ControlKind;
-using transport::Mode;
-using transport::Outcome;
+using rigid::ControlKind;
+using rigid::Mode;
+using rigid::Outcome;
 
 constexpr std::int64_t kMaxSleepSliceNs = 100'000'000;  // stop requests are seen within this
 constexpr std::int64_t kIdleRepublishNs = 1'000'000'000;
@@ -138,7 +138,9 @@ bool Loop::sleep_to(std::int64_t deadline_ns) {
     const std::int64_t now = monotonic_ns();
     if (now >= wake) break;
     sleep_until(std::min(wake, now + kMaxSleepSliceNs));
-    last_rest_ns_ = monotonic_ns();
+    // Only a real sleep counts as rest: a deadline microseconds away (a loop behind at a high
+    // rate) returns without giving the CPU to anyone.
+    if (wake - now >= kRestNs) last_rest_ns_ = monotonic_ns();
   }
   while (monotonic_ns() < deadline_ns)
     cpu_relax();
@@ -353,6 +355,8 @@ void Loop::step_tick() {
   note_frozen_bodies();
 
   const std::int64_t tick = driven_.tick();
+  // A tick of a step request (every tick in lockstep) hands over each of its states.
+  const bool paced = step_left_ > 0;
   bool publish = tick % config_.publish_every == 0 || new_command_;
   new_command_ = false;
   bool step_done = false;
@@ -360,14 +364,32 @@ void Loop::step_tick() {
     publish = true;  // a stepping controller needs the state its step ended on
     step_done = true;
   }
-  if (publish) publish_state();
+  if (publish) publish_state(paced);
   if (step_done) {
     output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
                         ControlKind::kStep, Outcome::kOk, tick, ReplyNote::kNone, step_total_});
   }
 }
 
-void Loop::publish_state() {
+void Loop::wait_for_publishers() {
+  if (config_.mode == Mode::kRealtime) {
+    // At real-time priority the loop and its publishers would keep their CPU through a whole step
+    // request, and a subscriber that shares that CPU would not run until it ends: its socket
+    // overflows and states are lost after all. A short sleep per state lets it keep up.
+    sleep_until(monotonic_ns() + kRestNs);
+    last_rest_ns_ = monotonic_ns();
+  }
+  const std::int64_t give_up = monotonic_ns() + kMaxPaceWaitNs;
+  for (;;) {
+    const std::int64_t until = std::min(monotonic_ns() + kMaxSleepSliceNs, give_up);
+    if (output_.wait_states_taken(until)) return;
+    heartbeat_.fetch_add(1, std::memory_order_relaxed);
+    if (stop_.load(std::memory_order_acquire) || monotonic_ns() >= give_up) return;
+  }
+}
+
+void Loop::publish_state(bool paced) {
+  if (paced) wait_for_publishers();
   const std::int64_t tick = driven_.tick();
   fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame_);
   output_.offer_state(frame_, first_arrival_ns_);

@@ -13,7 +13,10 @@
 // Every command carried out goes to the output's journal with its tick (journal_entry.hpp), and
 // with hash_states a hash of every published state too, so that a replay can reproduce the run.
 // Paused (or in lockstep with no step requested) the loop waits on the command doorbell and
-// republishes the unchanged state once a second for late subscribers. A body the physics guard
+// republishes the unchanged state once a second for late subscribers. The ticks of a step request
+// (every tick in lockstep) publish every state publish_every promises: before handing over a
+// state the loop waits until the publishers have taken the previous one, so publishing paces the
+// steps instead of skipping states (bounded: see wait_for_publishers). A body the physics guard
 // freezes (physics/world.hpp) is counted in the summary and queued once for the log.
 //
 // run() allocates nothing: everything is sized in the constructor (tests/loop proves it).
@@ -34,7 +37,7 @@
 #include "loop/tick_stats.hpp"
 #include "loop/triple_buffer.hpp"
 #include "physics/world.hpp"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
@@ -46,7 +49,7 @@ struct FrozenBody {
 };
 
 struct LoopConfig {
-  transport::Mode mode = transport::Mode::kRealtime;
+  rigid::Mode mode = rigid::Mode::kRealtime;
   double tick_dt = 1e-3;  // s: 1 / rate_hz
   int substeps = 1;
   int publish_every = 1;
@@ -98,11 +101,18 @@ class Loop {
   void handle_wrench(const Command& c);
   void refuse_wrench(const Command& c, RejectReason reason, const char* detail);
   void handle_control(const Command& c);
-  void answer(const Command& c, transport::Outcome outcome, ReplyNote note = ReplyNote::kNone,
+  void answer(const Command& c, rigid::Outcome outcome, ReplyNote note = ReplyNote::kNone,
               std::int64_t detail = 0);
   void do_reset();
   void step_tick();
-  void publish_state();
+  // paced: every state must reach the buses (wait_for_publishers first).
+  void publish_state(bool paced = false);
+  // Waits until the publishers have taken the last state, in slices of at most 100 ms (the
+  // heartbeat advances, a stop request ends the wait); after kMaxPaceWaitNs the next state
+  // replaces the one not taken (counted as skipped), so that a bus that stopped sending cannot
+  // hold the world forever.
+  void wait_for_publishers();
+  static constexpr std::int64_t kMaxPaceWaitNs = 1'000'000'000;
   void journal_control(const Control& k);
   // Sleeps to config_.spin_ns before the deadline in slices of at most 100 ms, then spins to it;
   // false if a stop was requested.
@@ -127,7 +137,7 @@ class Loop {
 
   SequenceTable wrench_sources_;
   SequenceTable control_sources_;
-  transport::StateFrame frame_;
+  rigid::StateFrame frame_;
   FixedRateSchedule schedule_;
   TickStats stats_;
   TripleBuffer<LoopSummary> summaries_;

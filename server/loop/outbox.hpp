@@ -7,7 +7,7 @@
 
 #include "loop/command.hpp"
 #include "loop/journal_entry.hpp"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
@@ -23,7 +23,12 @@ class LoopOutput : public ReplySink {
   // A new state for every bus. The frame is only valid during the call (copy it).
   // command_arrival_ns: when the earliest command that first shows in this state arrived
   // (CLOCK_MONOTONIC), or 0: the publishers measure command-to-state latency with it.
-  virtual void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) = 0;
+  virtual void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) = 0;
+  // Waits until every bus has taken the last state offered, so that the next offer replaces
+  // none, or until `deadline_ns` (CLOCK_MONOTONIC); true if taken. The loop calls it before a
+  // state that must not be skipped (lockstep, step requests). Allocates nothing. By default
+  // (a test's recorder keeps every state) there is nothing to wait for.
+  virtual bool wait_states_taken(std::int64_t /*deadline_ns*/) { return true; }
   // A command carried out, or a published state's hash, in the loop's order (journal_entry.hpp).
   // By default dropped: only the server keeps a journal.
   virtual void journal(const JournalEntry& /*entry*/) {}

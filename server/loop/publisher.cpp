@@ -7,33 +7,33 @@
 namespace rigid::loop {
 namespace {
 
-std::string_view kind_name(transport::ControlKind kind) {
+std::string_view kind_name(rigid::ControlKind kind) {
   switch (kind) {
-    case transport::ControlKind::kPause:
+    case rigid::ControlKind::kPause:
       return "pause";
-    case transport::ControlKind::kResume:
+    case rigid::ControlKind::kResume:
       return "resume";
-    case transport::ControlKind::kStep:
+    case rigid::ControlKind::kStep:
       return "step";
-    case transport::ControlKind::kReset:
+    case rigid::ControlKind::kReset:
       return "reset";
-    case transport::ControlKind::kSetRtf:
+    case rigid::ControlKind::kSetRtf:
       return "set_rtf";
-    case transport::ControlKind::kNone:
+    case rigid::ControlKind::kNone:
       break;
   }
   return "unknown";
 }
 
-std::string_view outcome_name(transport::Outcome outcome) {
+std::string_view outcome_name(rigid::Outcome outcome) {
   switch (outcome) {
-    case transport::Outcome::kOk:
+    case rigid::Outcome::kOk:
       return "ok";
-    case transport::Outcome::kInvalid:
+    case rigid::Outcome::kInvalid:
       return "invalid";
-    case transport::Outcome::kNotAllowed:
+    case rigid::Outcome::kNotAllowed:
       return "not allowed";
-    case transport::Outcome::kFailed:
+    case rigid::Outcome::kFailed:
       return "failed";
   }
   return "?";
@@ -41,7 +41,7 @@ std::string_view outcome_name(transport::Outcome outcome) {
 
 }  // namespace
 
-Publisher::Publisher(transport::Transport& transport, const transport::StateFrame& shape, Log& log,
+Publisher::Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
                      std::size_t reply_capacity)
     : transport_(transport), log_(log), states_(Snapshot{shape, 0}), replies_(reply_capacity) {}
 
@@ -65,7 +65,7 @@ void Publisher::wake() {
   work_.notify_one();
 }
 
-void Publisher::offer(const transport::StateFrame& frame, std::int64_t command_arrival_ns) {
+void Publisher::offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
   Snapshot& back = states_.back();
   back.frame = frame;
   // A command whose state was skipped first shows in this one.
@@ -82,6 +82,15 @@ void Publisher::offer(const transport::StateFrame& frame, std::int64_t command_a
   wake();
 }
 
+bool Publisher::wait_taken(std::int64_t deadline_ns) {
+  for (;;) {
+    const std::uint32_t seen = taken_.count();
+    if (!states_.pending()) return true;
+    if (monotonic_ns() >= deadline_ns) return false;
+    taken_.wait_until(seen, deadline_ns);
+  }
+}
+
 bool Publisher::reply(const Reply& reply) {
   if (!replies_.try_push(reply)) {
     replies_dropped_.fetch_add(1, std::memory_order_relaxed);
@@ -94,7 +103,7 @@ bool Publisher::reply(const Reply& reply) {
 void Publisher::send_replies() {
   Reply r;
   while (replies_.try_pop(r)) {
-    transport::ControlReply m;
+    rigid::ControlReply m;
     m.source = r.source;
     m.seq = r.seq;
     m.command = r.kind;
@@ -117,6 +126,7 @@ void Publisher::run() {
     const std::uint32_t seen = work_.load(std::memory_order_acquire);
     // The state first: a client that gets a step's reply finds its state already sent.
     if (Snapshot* snapshot = states_.take()) {
+      taken_.ring();  // a loop waiting to hand over the next state may go on
       snapshot->frame.stamp_ns = realtime_ns();
       if (transport_.publish(snapshot->frame) == transport::PublishResult::kOk) {
         states_sent_.fetch_add(1, std::memory_order_relaxed);

@@ -11,6 +11,7 @@
 
 #include "loop/bounded_queue.hpp"
 #include "loop/command.hpp"
+#include "loop/doorbell.hpp"
 #include "loop/histogram.hpp"
 #include "loop/log.hpp"
 #include "loop/triple_buffer.hpp"
@@ -21,13 +22,13 @@ namespace rigid::loop {
 class Publisher {
  public:
   // `shape`: a frame with the final number of bodies, so the buffers never grow.
-  Publisher(transport::Transport& transport, const transport::StateFrame& shape, Log& log,
+  Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
             std::size_t reply_capacity = 256);
   ~Publisher();
   Publisher(const Publisher&) = delete;
   Publisher& operator=(const Publisher&) = delete;
 
-  transport::Bus bus() const { return transport_.bus(); }
+  rigid::Bus bus() const { return transport_.bus(); }
   transport::Transport& transport() { return transport_; }
 
   void start();
@@ -37,7 +38,10 @@ class Publisher {
 
   // Loop thread: a new state (copied; allocation-free once the buffers have the frame's shape).
   // command_arrival_ns: see LoopOutput::offer_state.
-  void offer(const transport::StateFrame& frame, std::int64_t command_arrival_ns = 0);
+  void offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns = 0);
+  // Loop thread: waits until the publisher has taken the last state offered (it is being sent or
+  // was sent) or until `deadline_ns` (CLOCK_MONOTONIC); true if taken. Allocates nothing.
+  bool wait_taken(std::int64_t deadline_ns);
   // Any thread: queues a reply; false (and counted) if the reply queue is full.
   bool reply(const Reply& reply);
 
@@ -56,13 +60,14 @@ class Publisher {
   transport::Transport& transport_;
   Log& log_;
   struct Snapshot {
-    transport::StateFrame frame;
+    rigid::StateFrame frame;
     std::int64_t command_arrival_ns = 0;
   };
   TripleBuffer<Snapshot> states_;
   Histogram command_to_state_;           // publisher thread
   std::int64_t carried_arrival_ns_ = 0;  // loop thread: from a skipped snapshot
   BoundedQueue<Reply> replies_;
+  Doorbell taken_;                      // rung by the publisher thread whenever it takes a state
   std::atomic<std::uint32_t> work_{0};  // bumped for every piece of work; the thread waits on it
   std::atomic<bool> stop_{false};
   std::atomic<std::int64_t> states_sent_{0};

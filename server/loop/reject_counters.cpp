@@ -85,8 +85,8 @@ std::int64_t RejectCounters::total() const {
   return sum;
 }
 
-transport::RejectCounts RejectCounters::counts() const {
-  transport::RejectCounts c;
+rigid::RejectCounts RejectCounters::counts() const {
+  rigid::RejectCounts c;
   c.non_finite = count(RejectReason::kNonFinite);
   c.unknown_body = count(RejectReason::kUnknownBody);
   c.over_limit = count(RejectReason::kOverLimit);
@@ -100,15 +100,15 @@ transport::RejectCounts RejectCounters::counts() const {
   return c;
 }
 
-std::vector<transport::SourceRefusals> RejectCounters::top_senders() const {
+std::vector<rigid::SourceRefusals> RejectCounters::top_senders() const {
   std::vector<const SenderSlot*> used;
   const std::lock_guard lock(mutex_);
   for (const SenderSlot& slot : senders_)
     if (slot.used && slot.count > 0) used.push_back(&slot);
-  const std::size_t n = std::min(used.size(), transport::kMaxRefusedSources);
+  const std::size_t n = std::min(used.size(), rigid::kMaxRefusedSources);
   std::partial_sort(used.begin(), used.begin() + static_cast<std::ptrdiff_t>(n), used.end(),
                     [](const SenderSlot* a, const SenderSlot* b) { return a->count > b->count; });
-  std::vector<transport::SourceRefusals> top(n);
+  std::vector<rigid::SourceRefusals> top(n);
   for (std::size_t i = 0; i < n; ++i) {
     top[i].sender = used[i]->sender.name;
     top[i].count = used[i]->count;

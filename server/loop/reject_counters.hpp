@@ -20,7 +20,7 @@
 
 #include "loop/command.hpp"
 #include "loop/log.hpp"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
@@ -42,9 +42,9 @@ class RejectCounters {
     return slots_[index(reason)].count.load(std::memory_order_relaxed);
   }
   std::int64_t total() const;
-  transport::RejectCounts counts() const;
-  // The senders refused most since start, most first, at most transport::kMaxRefusedSources.
-  std::vector<transport::SourceRefusals> top_senders() const;
+  rigid::RejectCounts counts() const;
+  // The senders refused most since start, most first, at most rigid::kMaxRefusedSources.
+  std::vector<rigid::SourceRefusals> top_senders() const;
 
   // Logs the first refusals not logged yet, and, at most once per second, one line summing up the
   // refusals since the last such line. `now_ns` is CLOCK_MONOTONIC.

@@ -21,13 +21,13 @@ std::vector<std::string> body_names(const scene::Scene& scene) {
   return names;
 }
 
-std::string_view mode_name(transport::Mode mode) {
+std::string_view mode_name(rigid::Mode mode) {
   switch (mode) {
-    case transport::Mode::kRealtime:
+    case rigid::Mode::kRealtime:
       return "realtime";
-    case transport::Mode::kFast:
+    case rigid::Mode::kFast:
       return "fast";
-    case transport::Mode::kLockstep:
+    case rigid::Mode::kLockstep:
       return "lockstep";
   }
   return "?";
@@ -49,7 +49,7 @@ LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) 
 // What a replay needs besides the journal's entries: the scene (its text and as SceneInfo), the
 // tick rate, the integrator and the wrench table's capacity.
 msgs::LogHeader journal_header(const scene::Scene& scene, const ServerOptions& options,
-                               const transport::SceneDescription& info) {
+                               const rigid::SceneDescription& info) {
   msgs::LogHeader h;
   h.set_kind(msgs::LogHeader::JOURNAL);
   h.set_schema_version(records::kLogSchemaVersion);
@@ -91,8 +91,8 @@ bool pin(std::thread::native_handle_type thread, int cpu) {
   return pthread_setaffinity_np(thread, sizeof set, &set) == 0;
 }
 
-std::size_t bus_index(transport::Bus bus) {
-  return bus == transport::Bus::kDds ? 0 : 1;
+std::size_t bus_index(rigid::Bus bus) {
+  return bus == rigid::Bus::kDds ? 0 : 1;
 }
 
 std::string fixed(double v, int decimals) {
@@ -113,27 +113,27 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
       bodies_(body_names(scene)),
       validator_(bodies_, scene.limits),
       commands_(options.command_capacity),
-      dds_intake_(transport::Bus::kDds, validator_, intake_policy(scene, options), commands_,
-                  doorbell_, rejects_, *this),
-      lcm_intake_(transport::Bus::kLcm, validator_, intake_policy(scene, options), commands_,
-                  doorbell_, rejects_, *this),
+      dds_intake_(rigid::Bus::kDds, validator_, intake_policy(scene, options), commands_, doorbell_,
+                  rejects_, *this),
+      lcm_intake_(rigid::Bus::kLcm, validator_, intake_policy(scene, options), commands_, doorbell_,
+                  rejects_, *this),
       loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
   scene_info_ = describe_scene(scene, loop_.world());
   shape_state_frame(loop_.world(), shape_);
   Journal::Options journal;
   journal.path = options.journal_path;
-  journal_ = std::make_unique<Journal>(
-      journal, journal_header(scene, options, scene_info_), log_,
-      [this](const transport::AcceptedCommand& a) { publish_accepted(a); });
+  journal_ =
+      std::make_unique<Journal>(journal, journal_header(scene, options, scene_info_), log_,
+                                [this](const rigid::AcceptedCommand& a) { publish_accepted(a); });
 }
 
 Server::~Server() {
   stop();
 }
 
-transport::Receiver& Server::receiver(transport::Bus bus) {
-  return bus == transport::Bus::kDds ? static_cast<transport::Receiver&>(dds_intake_)
-                                     : static_cast<transport::Receiver&>(lcm_intake_);
+transport::Receiver& Server::receiver(rigid::Bus bus) {
+  return bus == rigid::Bus::kDds ? static_cast<transport::Receiver&>(dds_intake_)
+                                 : static_cast<transport::Receiver&>(lcm_intake_);
 }
 
 void Server::add_transport(std::unique_ptr<transport::Transport> transport) {
@@ -155,7 +155,7 @@ void Server::start() {
   journal_->start();
   housekeeping_thread_ = std::thread([this] { housekeeping(); });
   loop_thread_ = std::thread([this] { loop_.run(); });
-  if (options_.mode == transport::Mode::kRealtime && options_.realtime_priority) {
+  if (options_.mode == rigid::Mode::kRealtime && options_.realtime_priority) {
     set_priorities();
   }
 }
@@ -232,9 +232,15 @@ bool Server::first_state_sent() const {
   return false;
 }
 
-void Server::offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) {
+void Server::offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
   for (auto& p : publishers_)
     p->offer(frame, command_arrival_ns);
+}
+
+bool Server::wait_states_taken(std::int64_t deadline_ns) {
+  for (auto& p : publishers_)
+    if (!p->wait_taken(deadline_ns)) return false;
+  return true;
 }
 
 void Server::reply(const Reply& reply) {
@@ -242,13 +248,13 @@ void Server::reply(const Reply& reply) {
   if (p != nullptr) p->reply(reply);
 }
 
-void Server::publish_accepted(const transport::AcceptedCommand& accepted) {
+void Server::publish_accepted(const rigid::AcceptedCommand& accepted) {
   for (auto& t : transports_)
     (void)t->publish(accepted);  // failures are counted by the transport
 }
 
-transport::StatsReport Server::make_stats(const LoopSummary& s) const {
-  transport::StatsReport r;
+rigid::StatsReport Server::make_stats(const LoopSummary& s) const {
+  rigid::StatsReport r;
   r.tick = s.tick;
   r.sim_time = s.sim_time;
   r.mode = s.mode;
@@ -269,7 +275,7 @@ transport::StatsReport Server::make_stats(const LoopSummary& s) const {
   r.rejected = rejects_.counts();
   r.refused_by_source = rejects_.top_senders();
   for (const auto& t : transports_) {
-    (t->bus() == transport::Bus::kDds ? r.dds : r.lcm) = t->counts();
+    (t->bus() == rigid::Bus::kDds ? r.dds : r.lcm) = t->counts();
   }
   return r;
 }
@@ -289,14 +295,14 @@ void Server::housekeeping() {
     rejects_.flush(log_, now);
     log_frozen_bodies();
     if (loop_.take_summary(summary)) {
-      const transport::StatsReport stats = make_stats(summary);
+      const rigid::StatsReport stats = make_stats(summary);
       for (auto& t : transports_)
         (void)t->publish(stats);  // failures are counted by the transport
     }
     if (now >= next_scene_ns) {
       // LCM has no durability: late joiners get the scene within a second.
       for (auto& t : transports_)
-        if (t->bus() == transport::Bus::kLcm) (void)t->publish(scene_info_);
+        if (t->bus() == rigid::Bus::kLcm) (void)t->publish(scene_info_);
       next_scene_ns = now + 1'000'000'000;
     }
     const std::int64_t overruns = loop_.overruns();
@@ -342,9 +348,8 @@ std::string Server::short_closing_line() const {
   const RunTotals& t = *totals_;
   return "stopped after " + std::to_string(t.ticks_stepped) + " ticks (" + fixed(t.wall_s, 1) +
          " s, rtf " + fixed(t.wall_s > 0 ? t.sim_s_stepped / t.wall_s : 0.0, 3) + "), " +
-         std::to_string(t.overruns) + " overruns, lateness p99 " +
-         us(t.lateness.percentile(0.99)) + " us; commands accepted " +
-         std::to_string(loop_.commands_accepted()) + ", refused " +
+         std::to_string(t.overruns) + " overruns, lateness p99 " + us(t.lateness.percentile(0.99)) +
+         " us; commands accepted " + std::to_string(loop_.commands_accepted()) + ", refused " +
          std::to_string(rejects_.total()) +
          "; bodies_frozen=" + std::to_string(loop_.world().frozen_bodies().size()) +
          " (--verbose: the full summary)";

@@ -38,7 +38,7 @@
 namespace rigid::loop {
 
 struct ServerOptions {
-  transport::Mode mode = transport::Mode::kRealtime;
+  rigid::Mode mode = rigid::Mode::kRealtime;
   std::size_t command_capacity = 1024;  // queued commands between the transports and the loop
   std::size_t wrench_capacity = 4096;   // live wrenches
   // Realtime mode: ask for SCHED_FIFO for the loop thread at fifo_priority and the publishers one
@@ -68,7 +68,7 @@ class Server final : private LoopOutput {
 
   // The receiver to create `bus`'s transport with. It may be called as soon as the transport
   // exists: commands wait in the queue until start().
-  transport::Receiver& receiver(transport::Bus bus);
+  transport::Receiver& receiver(rigid::Bus bus);
   // Before start().
   void add_transport(std::unique_ptr<transport::Transport> transport);
 
@@ -92,20 +92,21 @@ class Server final : private LoopOutput {
   std::string lateness_histogram_line() const;
 
  private:
-  void offer_state(const transport::StateFrame& frame, std::int64_t command_arrival_ns) override;
+  void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
+  bool wait_states_taken(std::int64_t deadline_ns) override;
   void reply(const Reply& reply) override;
   void journal(const JournalEntry& entry) override { journal_->push(entry); }
-  void publish_accepted(const transport::AcceptedCommand& accepted);
+  void publish_accepted(const rigid::AcceptedCommand& accepted);
   void housekeeping();
   // Logs each body the loop found frozen for the first time (housekeeping and stop).
   void log_frozen_bodies();
-  transport::StatsReport make_stats(const LoopSummary& summary) const;
+  rigid::StatsReport make_stats(const LoopSummary& summary) const;
   void set_priorities();
   int loop_cpu_ = -1;  // the CPU the real-time threads are pinned to, or -1
 
   Log& log_;
   const ServerOptions options_;
-  transport::SceneDescription scene_info_;
+  rigid::SceneDescription scene_info_;
   BodyDirectory bodies_;
   CommandValidator validator_;
   BoundedQueue<Command> commands_;
@@ -114,7 +115,7 @@ class Server final : private LoopOutput {
   Intake dds_intake_;
   Intake lcm_intake_;
   Loop loop_;
-  transport::StateFrame shape_;
+  rigid::StateFrame shape_;
   // Publishers by bus, for replies (set before start, read from any thread).
   std::array<std::atomic<Publisher*>, 2> by_bus_{};
   std::vector<std::unique_ptr<Publisher>> publishers_;

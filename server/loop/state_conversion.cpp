@@ -4,7 +4,7 @@
 
 namespace rigid::loop {
 
-void shape_state_frame(const physics::World& world, transport::StateFrame& frame) {
+void shape_state_frame(const physics::World& world, rigid::StateFrame& frame) {
   const auto n = static_cast<std::size_t>(world.body_count());
   frame.resize(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -12,7 +12,7 @@ void shape_state_frame(const physics::World& world, transport::StateFrame& frame
 }
 
 void fill_state_frame(const physics::World& world, std::int64_t tick, double sim_time,
-                      transport::StateFrame& frame) {
+                      rigid::StateFrame& frame) {
   frame.tick = tick;
   frame.sim_time = sim_time;
   const int n = world.body_count();
@@ -40,20 +40,20 @@ void fill_state_frame(const physics::World& world, std::int64_t tick, double sim
 
 namespace {
 
-transport::ShapeKind shape_kind(physics::ShapeKind k) {
+rigid::ShapeKind shape_kind(physics::ShapeKind k) {
   switch (k) {
     case physics::ShapeKind::kSphere:
-      return transport::ShapeKind::kSphere;
+      return rigid::ShapeKind::kSphere;
     case physics::ShapeKind::kBox:
-      return transport::ShapeKind::kBox;
+      return rigid::ShapeKind::kBox;
     case physics::ShapeKind::kCylinder:
-      return transport::ShapeKind::kCylinder;
+      return rigid::ShapeKind::kCylinder;
     case physics::ShapeKind::kEllipsoid:
-      return transport::ShapeKind::kEllipsoid;
+      return rigid::ShapeKind::kEllipsoid;
     case physics::ShapeKind::kCapsule:
-      return transport::ShapeKind::kCapsule;
+      return rigid::ShapeKind::kCapsule;
   }
-  return transport::ShapeKind::kNone;
+  return rigid::ShapeKind::kNone;
 }
 
 // The wire's dims: sphere (radius, 0, 0); cylinder and capsule (radius, length, 0); box and
@@ -74,13 +74,13 @@ physics::Vec3 shape_dims(const physics::Shape& s) {
 
 }  // namespace
 
-transport::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
-  transport::SceneDescription d;
+rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
+  rigid::SceneDescription d;
   const physics::WorldSpec& spec = scene.world;
   // The path's tail if it is longer than the message allows (msgs/rigid.idl: string<256>).
-  d.scene_name = scene.path.size() < transport::kMaxMessageLength
+  d.scene_name = scene.path.size() < rigid::kMaxMessageLength
                      ? scene.path
-                     : scene.path.substr(scene.path.size() - (transport::kMaxMessageLength - 1));
+                     : scene.path.substr(scene.path.size() - (rigid::kMaxMessageLength - 1));
   d.dt = 1.0 / scene.rate_hz;
   d.substeps = scene.substeps;
   d.publish_every = scene.publish_every;
@@ -101,7 +101,7 @@ transport::SceneDescription describe_scene(const scene::Scene& scene, const phys
     d.inertia.insert(d.inertia.end(), {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)});
     const std::optional<physics::Shape>& shape =
         i < scene.shapes.size() ? scene.shapes[i] : std::optional<physics::Shape>();
-    d.shape_kinds.push_back(shape ? shape_kind(shape->kind) : transport::ShapeKind::kNone);
+    d.shape_kinds.push_back(shape ? shape_kind(shape->kind) : rigid::ShapeKind::kNone);
     const physics::Vec3 dims = shape ? shape_dims(*shape) : physics::Vec3::Zero();
     d.shape_dims.insert(d.shape_dims.end(), {dims.x(), dims.y(), dims.z()});
   }

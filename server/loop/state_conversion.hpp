@@ -1,4 +1,4 @@
-// Physics -> wire: the world's state as a transport::StateFrame, and the scene as a
+// Physics -> wire: the world's state as a rigid::StateFrame, and the scene as a
 // SceneDescription. It lives here, not in transport/, so that the transport layer knows nothing
 // of the physics. Body ids on the wire are the physics ids (0 .. n-1, in scene order).
 #pragma once
@@ -6,22 +6,22 @@
 #include <cstdint>
 
 #include "physics/world.hpp"
+#include "rigid/messages.hpp"
 #include "scene/scene.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::loop {
 
 // Sizes `frame` for the world and writes the ids: once, at start-up.
-void shape_state_frame(const physics::World& world, transport::StateFrame& frame);
+void shape_state_frame(const physics::World& world, rigid::StateFrame& frame);
 
 // Writes tick, sim_time and every body's state into a frame shaped by shape_state_frame.
 // Allocates nothing. stamp_ns is left for the publisher (the moment of sending).
 void fill_state_frame(const physics::World& world, std::int64_t tick, double sim_time,
-                      transport::StateFrame& frame);
+                      rigid::StateFrame& frame);
 
 // The scene as the SceneInfo message: ids, names, masses, inertia tensors in B (zero for a point
 // mass) and shapes (SHAPE_NONE when the file gave the inertia directly), the tick period and the
 // integrator the world runs.
-transport::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world);
+rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world);
 
 }  // namespace rigid::loop

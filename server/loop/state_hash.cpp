@@ -29,7 +29,7 @@ std::uint64_t finish(std::uint64_t x) {
 
 }  // namespace
 
-std::uint64_t state_hash(const transport::StateFrame& frame) {
+std::uint64_t state_hash(const rigid::StateFrame& frame) {
   std::uint64_t h = fold(0x7269676964ULL, static_cast<std::uint64_t>(frame.tick));  // "rigid"
   h = fold(h, frame.ids.size());
   h = fold_all(h, frame.position);

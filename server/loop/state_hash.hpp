@@ -11,10 +11,10 @@
 
 #include <cstdint>
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
-std::uint64_t state_hash(const transport::StateFrame& frame);
+std::uint64_t state_hash(const rigid::StateFrame& frame);
 
 }  // namespace rigid::loop

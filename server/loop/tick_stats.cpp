@@ -13,7 +13,7 @@ TickStats::TickStats(double tick_dt, std::int64_t start_ns, std::int64_t window_
     : tick_dt_(tick_dt), start_ns_(start_ns), window_ns_(window_ns), window_start_ns_(start_ns) {}
 
 LoopSummary TickStats::close_window(std::int64_t now_ns, std::int64_t tick, double sim_time,
-                                    transport::Mode mode, bool paused) {
+                                    rigid::Mode mode, bool paused) {
   LoopSummary s;
   s.tick = tick;
   s.sim_time = sim_time;

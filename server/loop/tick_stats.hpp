@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "loop/histogram.hpp"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::loop {
 
@@ -15,7 +15,7 @@ namespace rigid::loop {
 struct LoopSummary {
   std::int64_t tick = 0;
   double sim_time = 0.0;
-  transport::Mode mode = transport::Mode::kRealtime;
+  rigid::Mode mode = rigid::Mode::kRealtime;
   bool paused = false;
   double rtf_last_second = 0.0;
   double rtf_since_start = 0.0;
@@ -58,7 +58,7 @@ class TickStats {
 
   // Summarises the window ending at now_ns, folds it into the totals, and opens the next one.
   LoopSummary close_window(std::int64_t now_ns, std::int64_t tick, double sim_time,
-                           transport::Mode mode, bool paused);
+                           rigid::Mode mode, bool paused);
 
   // The totals, including the open window, as of now_ns.
   RunTotals totals(std::int64_t now_ns) const;

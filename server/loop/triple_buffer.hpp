@@ -29,6 +29,10 @@ class TripleBuffer {
     return (old & kFresh) != 0;
   }
 
+  // Writer: true while the newest published value has not been taken (a publish() now would
+  // overwrite it). The loop waits on this when every state must reach the buses.
+  bool pending() const { return (middle_.load(std::memory_order_acquire) & kFresh) != 0; }
+
   // Reader: the newest value if one was published since the last take, else null. The value
   // stays valid (and the reader may modify it) until the next take.
   T* take() {

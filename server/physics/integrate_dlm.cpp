@@ -31,10 +31,10 @@ inline void axis_rotation(int i, double t, const Vec3& inv_I, Vec3& m, Quat& q) 
 }
 
 template <class G>
-void dlm_group(G& g, Model& m) {
+void dlm_group(G& g, const Model& m, Share& sh) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   const double h = m.dt;
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
@@ -42,7 +42,7 @@ void dlm_group(G& g, Model& m) {
     Vec3 rate = Vec3::Zero();
     if constexpr (kRotates) {
       rate = g.rot[i].drag_rates();
-      m.note_rotation(g.rot[i].omega(s.spin));
+      sh.note_rotation(m.dt, g.rot[i].omega(s.spin));
     }
     const auto kick_all = [&] {
       kick(half, lin.accel(L.force_W(s.q)), s.v);
@@ -71,11 +71,11 @@ void dlm_group(G& g, Model& m) {
 
 }  // namespace
 
-void step_dlm(Model& m) {
-  dlm_group(m.point, m);
-  dlm_group(m.iso, m);
-  dlm_group(m.axi, m);
-  dlm_group(m.gen, m);
+void step_dlm(Model& m, Share& sh) {
+  dlm_group(m.point, m, sh);
+  dlm_group(m.iso, m, sh);
+  dlm_group(m.axi, m, sh);
+  dlm_group(m.gen, m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -87,59 +87,186 @@ inline void invalidate(GenGroup& g, int i) {
   g.plan_ok[i] = 0;
 }
 
-void exact_points(PointGroup& g, const Model& m) {
+void exact_points(PointGroup& g, const Model& m, Range r) {
   // A point mass never turns: its acceleration is constant over the step, so this is exact.
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = r.begin; i < r.end; ++i) {
     Motion& b = g.motion[i];
     const Linear& lin = g.linear[i];
     translate(m.tc(lin, kFull), lin.accel(g.loads[i].force_W(b.q)), b.x, b.v);
   }
 }
 
+// Bodies with nothing turning them: one exact translation and one exact drift, the rotation plan
+// cached until something changes the momentum.
 template <class G>
-void exact_group(G& g, const Model& m, bool fourth_order) {
+void exact_quiet(G& g, const Model& m, Range r) {
   const double h = m.dt;
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = r.begin; i < r.end; ++i) {
     Motion& b = g.motion[i];
-    const Linear& lin = g.linear[i];
-    const Loads& L = g.loads[i];
-    const auto& rot = g.rot[i];
-    if (L.quiet()) {
-      translate(m.tc(lin, kFull), lin.accel(L.f_W), b.x, b.v);
-      drift_cached(g, i, h);
+    translate(m.tc(g.linear[i], kFull), g.linear[i].accel(g.loads[i].f_W), b.x, b.v);
+    drift_cached(g, i, h);
+  }
+}
+
+// The composition of kick-drift-kick stages S(c_k h), k = 1..n, for one body, with the stage's
+// drift given by `drift(i, s)` (exact or split free rotor). The closing half kick of a stage and
+// the opening half kick of the next act at the same orientation with the same loads, and the kick
+// flow is a one-parameter group: they are merged into one kick of (s_k + s_k+1) / 2. Fewer
+// additions of small increments to w, less round-off, less work.
+template <class Comp, class G, class Drift>
+inline void compose_loaded(G& g, const Model& m, int i, Drift&& drift) {
+  const double h = m.dt;
+  Motion& b = g.motion[i];
+  const Linear& lin = g.linear[i];
+  const Loads& L = g.loads[i];
+  const auto& rot = g.rot[i];
+  const Vec3 rates = rot.drag_rates();
+  Vec3 a0 = lin.accel(L.force_W(b.q));
+  Vec3 rate = rot.spin_rate(L.torque_P(b.q));
+  kick_angular(rate, rates, 0.5 * Comp::kStage[0] * h, b.spin);
+  for (int k = 0; k < Comp::kStages; ++k) {
+    const double s = Comp::kStage[k] * h;
+    drift(i, s);
+    const Vec3 a1 = lin.accel(L.force_W(b.q));
+    rate = rot.spin_rate(L.torque_P(b.q));
+    translate(m.tc(lin, Comp::kSize[k]), a0, a1, b.x, b.v);
+    const double next = k + 1 < Comp::kStages ? Comp::kStage[k + 1] * h : 0.0;
+    kick_angular(rate, rates, 0.5 * (s + next), b.spin);
+    a0 = a1;
+  }
+}
+
+// exact_rotor: the splitting itself, one stage.
+struct OneStage {
+  static constexpr int kStages = 1;
+  static constexpr double kStage[1] = {1.0};
+  static constexpr TransSize kSize[1] = {kFull};
+};
+
+// exact_rotor / exact_rotor4: one path per body, the choice made per body inside the loop.
+template <class G>
+void exact_group(G& g, const Model& m, bool fourth_order, Range r) {
+  for (int i = r.begin; i < r.end; ++i) {
+    if (g.loads[i].quiet()) {
+      exact_quiet(g, m, Range{i, i + 1});
       continue;
     }
     invalidate(g, i);
-    const Vec3 rates = rot.drag_rates();
-    // Stages s_1..s_n (one for exact_rotor, Suzuki's five for exact_rotor4). The closing half kick
-    // of a stage and the opening half kick of the next act at the same orientation with the same
-    // loads, and the kick flow is a one-parameter group: they are merged into one kick of
-    // (s_k + s_k+1) / 2. Fewer additions of small increments to w, less round-off, less work.
-    const int n = fourth_order ? Composition::kStages : 1;
-    const auto size_of = [&](int k) { return fourth_order ? Composition::kStage[k] * h : h; };
-    Vec3 a0 = lin.accel(L.force_W(b.q));
-    Vec3 rate = rot.spin_rate(L.torque_P(b.q));
-    kick_angular(rate, rates, 0.5 * size_of(0), b.spin);
-    for (int k = 0; k < n; ++k) {
-      const double s = size_of(k);
-      drift(g, i, s);
-      const Vec3 a1 = lin.accel(L.force_W(b.q));
-      rate = rot.spin_rate(L.torque_P(b.q));
-      translate(m.tc(lin, fourth_order ? Composition::kSize[k] : kFull), a0, a1, b.x, b.v);
-      const double next = k + 1 < n ? size_of(k + 1) : 0.0;
-      kick_angular(rate, rates, 0.5 * (s + next), b.spin);
-      a0 = a1;
+    const auto exact = [&](int j, double s) { drift(g, j, s); };
+    if (fourth_order) {
+      compose_loaded<Composition>(g, m, i, exact);
+    } else {
+      compose_loaded<OneStage>(g, m, i, exact);
     }
   }
 }
 
+// --- hybrid4: the exact free rotor for quiet bodies, a cheap fourth-order step for loaded ones ---
+
+// Exact flow over t of the sub-Hamiltonian d m_a^2 / 2 (a principal axis a of P): the body turns
+// about its axis a by theta = t d m_a, and m turns the other way about it (m' = m x (d m_a e_a)),
+// m_a unchanged.
+inline void axis_turn(int a, double d, double t, Vec3& m, Quat& q) {
+  const double theta = t * d * m[a];
+  double ch, sinc;
+  cos_sinc(0.5 * theta, ch, sinc);
+  const double sh = 0.5 * theta * sinc;
+  const double c = ch * ch - sh * sh, sn = 2.0 * ch * sh;
+  const int j = (a + 1) % 3, k = (a + 2) % 3;
+  const double mj = m[j], mk = m[k];
+  m[j] = c * mj + sn * mk;
+  m[k] = -sn * mj + c * mk;
+  Quat e(ch, 0.0, 0.0, 0.0);
+  e.vec()[a] = sh;
+  q = q * e;
+}
+
+// The axisymmetric free rotor, moments (A, A, C) about P's z axis, a = 1/A, c = 1/C, in closed form
+// (Landau & Lifshitz section 33): with H = a |m|^2 / 2 + (c - a) m3^2 / 2, whose two terms commute
+// (|m|^2 is a Casimir), q <- q exp(s a m) exp(s (c - a) m3 z) and m turns by -s (c - a) m3 about z.
+// The half angles come from their squares (cos_sinc_sq: no square root, no libm while small).
+inline void axisym_turn(double a, double c, double s, Vec3& m, Quat& q) {
+  double cw, sw;
+  const double hs = 0.5 * s * a;
+  cos_sinc_sq(hs * hs * m.squaredNorm(), cw, sw);
+  sw *= hs;  // exp(s a m / 2 ...) = (cw, sw m)
+  const double phi = s * (c - a) * m.z();
+  double cz, sz;
+  cos_sinc_sq(0.25 * phi * phi, cz, sz);
+  sz *= 0.5 * phi;  // exp(phi z / 2) = (cz, sz z)
+  const double c2 = cz * cz - sz * sz, s2 = 2.0 * cz * sz;
+  // dq = (cw, sw m) (cz, sz z)
+  const Quat dq(cw * cz - sw * m.z() * sz, sw * (m.x() * cz + m.y() * sz),
+                sw * (m.y() * cz - m.x() * sz), cw * sz + sw * m.z() * cz);
+  q = q * dq;
+  const double m1 = m.x(), m2 = m.y();
+  m.x() = c2 * m1 + s2 * m2;
+  m.y() = -s2 * m1 + c2 * m2;
+}
+
+// The split free rotor of a general body (moments I1 < I2 < I3 in P, a_i = 1 / I_i):
+//   H = m.m a2 / 2 + (a1 - a2) m1^2 / 2 + (a3 - a2) m3^2 / 2
+//     = [axisymmetric rotor of moments (I2, I2, I3)] + [(a1 - a2) m1^2 / 2],
+// the Casimir |m|^2 taken with the middle moment so that the two non-commuting parts are the
+// smallest possible, (a1 - a2)(a2 - a3) (Touma & Wisdom, "Lie-Poisson integrators for rigid body
+// dynamics in the solar system", Astron. J. 107 (1994), symmetric top + correction). Each part is
+// exact and cheap (closed-form precession, an axis turn); the drift X1(s/2) A(s) X1(s/2) is
+// symmetric, second order in s, and exact for an axisymmetric body.
+inline void split_drift(GenGroup& g, int i, double s) {
+  Motion& b = g.motion[i];
+  const Vec3& a = g.rot[i].inv_I;
+  const double d1 = a.x() - a.y();
+  axis_turn(0, d1, 0.5 * s, b.spin, b.q);
+  axisym_turn(a.y(), a.z(), s, b.spin, b.q);
+  axis_turn(0, d1, 0.5 * s, b.spin, b.q);
+  renormalize(b.q);
+}
+inline void fast_drift(AxiGroup& g, int i, double s) {
+  Motion& b = g.motion[i];
+  axisym_turn(g.rot[i].inv_I.x(), g.rot[i].inv_I.z(), s, b.spin, b.q);
+  renormalize(b.q);
+}
+inline void fast_drift(IsoGroup& g, int i, double s) {
+  drift(g, i, s);
+}
+inline void fast_drift(GenGroup& g, int i, double s) {
+  split_drift(g, i, s);
+}
+
+template <class Comp, class G>
+void hybrid_loaded(G& g, const Model& m, Range r) {
+  for (int i = r.begin; i < r.end; ++i) {
+    invalidate(g, i);
+    compose_loaded<Comp>(g, m, i, [&](int j, double s) { fast_drift(g, j, s); });
+  }
+}
+
+template <class Comp>
+void step_hybrid_with(Model& m, Share& sh) {
+  exact_points(m.point, m, sh.all[PointGroup::kIndex]);
+  exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
+  hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
+  exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
+  hybrid_loaded<Comp>(m.axi, m, sh.run[AxiGroup::kIndex][1]);
+  exact_quiet(m.gen, m, sh.run[GenGroup::kIndex][0]);
+  hybrid_loaded<Comp>(m.gen, m, sh.run[GenGroup::kIndex][1]);
+}
+
 }  // namespace
 
-void step_exact(Model& m, bool fourth_order) {
-  exact_points(m.point, m);
-  exact_group(m.iso, m, fourth_order);
-  exact_group(m.axi, m, fourth_order);
-  exact_group(m.gen, m, fourth_order);
+void step_exact(Model& m, bool fourth_order, Share& sh) {
+  exact_points(m.point, m, sh.all[PointGroup::kIndex]);
+  exact_group(m.iso, m, fourth_order, sh.all[IsoGroup::kIndex]);
+  exact_group(m.axi, m, fourth_order, sh.all[AxiGroup::kIndex]);
+  exact_group(m.gen, m, fourth_order, sh.all[GenGroup::kIndex]);
+}
+
+void step_hybrid(Model& m, Share& sh, int variant) {
+  if (variant == 0) {
+    step_hybrid_with<TripleJump>(m, sh);
+  } else {
+    step_hybrid_with<Composition>(m, sh);
+  }
 }
 
 }  // namespace rigid::physics::detail

@@ -16,10 +16,10 @@ namespace rigid::physics::detail {
 namespace {
 
 template <class G>
-void implicit_gyro_group(G& g, Model& m) {
+void implicit_gyro_group(G& g, const Model& m, Share& sh) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   const double h = m.dt;
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
@@ -29,7 +29,7 @@ void implicit_gyro_group(G& g, Model& m) {
     if constexpr (kRotates) {
       const auto& rot = g.rot[i];
       using Rot = std::decay_t<decltype(rot)>;
-      m.note_rotation(rot.omega(s.spin));
+      sh.note_rotation(m.dt, rot.omega(s.spin));
       kick_angular(rot.spin_rate(L.torque_P(s.q)), rot.drag_rates(), h, s.spin);
       Vec3 w = rot.omega(s.spin);
       if constexpr (std::is_same_v<Rot, DiagRot>) {
@@ -46,11 +46,11 @@ void implicit_gyro_group(G& g, Model& m) {
 
 }  // namespace
 
-void step_implicit_gyro(Model& m) {
-  implicit_gyro_group(m.point, m);
-  implicit_gyro_group(m.iso, m);
-  implicit_gyro_group(m.axi, m);
-  implicit_gyro_group(m.gen, m);
+void step_implicit_gyro(Model& m, Share& sh) {
+  implicit_gyro_group(m.point, m, sh);
+  implicit_gyro_group(m.iso, m, sh);
+  implicit_gyro_group(m.axi, m, sh);
+  implicit_gyro_group(m.gen, m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -23,10 +23,10 @@ Quat notes_rotate(const Quat& q, const Vec3& w_W, double s) {
 }
 
 template <class G>
-void notes_group(G& g, IntegratorId which, Model& m) {
+void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
   const double h = m.dt;
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
@@ -52,7 +52,7 @@ void notes_group(G& g, IntegratorId which, Model& m) {
     Vec3 w0 = Vec3::Zero();  // world frame, the notes' state
     if constexpr (kRotates) {
       w0 = q0 * g.rot[i].omega(s.spin);
-      m.note_rotation(w0);
+      sh.note_rotation(m.dt, w0);
     }
     Quat q1 = q0;
     Vec3 w1 = w0;
@@ -126,11 +126,11 @@ void notes_group(G& g, IntegratorId which, Model& m) {
 
 }  // namespace
 
-void step_notes(Model& m, IntegratorId which) {
-  notes_group(m.point, which, m);
-  notes_group(m.iso, which, m);
-  notes_group(m.axi, which, m);
-  notes_group(m.gen, which, m);
+void step_notes(Model& m, IntegratorId which, Share& sh) {
+  notes_group(m.point, which, m, sh);
+  notes_group(m.iso, which, m, sh);
+  notes_group(m.axi, which, m, sh);
+  notes_group(m.gen, which, m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -21,10 +21,10 @@ template <class Rot>
 constexpr bool kGyroscopic = std::is_same_v<Rot, DiagRot>;
 
 template <class G>
-void rk4_group(G& g, Model& m) {
+void rk4_group(G& g, const Model& m, Share& sh) {
   const double h = m.dt;
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
-  for (int i = 0; i < g.size(); ++i) {
+  for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
     const Loads& L = g.loads[i];
@@ -59,7 +59,7 @@ void rk4_group(G& g, Model& m) {
       y.q.coeffs() = s.q.coeffs() + c * d.dq;
       return y;
     };
-    if constexpr (kRotates) m.note_rotation(g.rot[i].omega(s.spin));
+    if constexpr (kRotates) sh.note_rotation(m.dt, g.rot[i].omega(s.spin));
     const Deriv k1 = f(s);
     const Deriv k2 = f(add(k1, 0.5 * h));
     const Deriv k3 = f(add(k2, 0.5 * h));
@@ -77,11 +77,11 @@ void rk4_group(G& g, Model& m) {
 
 }  // namespace
 
-void step_rk4(Model& m) {
-  rk4_group(m.point, m);
-  rk4_group(m.iso, m);
-  rk4_group(m.axi, m);
-  rk4_group(m.gen, m);
+void step_rk4(Model& m, Share& sh) {
+  rk4_group(m.point, m, sh);
+  rk4_group(m.iso, m, sh);
+  rk4_group(m.axi, m, sh);
+  rk4_group(m.gen, m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -16,6 +16,8 @@ enum class IntegratorId {
   kDlm,
   kExactRotor,
   kExactRotor4,
+  kHybrid4,
+  kHybrid4Suzuki,  // a candidate, not listed: hybrid4 with Suzuki's five stages
 };
 
 struct IntegratorInfo {

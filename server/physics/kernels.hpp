@@ -1,5 +1,6 @@
-// The integrators' step kernels, one file each (integrate_*.cpp). Each advances every group of the
-// model by one step of model.dt, evaluating loads at every stage it needs them.
+// The integrators' step kernels, one file each (integrate_*.cpp). Each advances its share of every
+// group of the model (Share: the bodies one thread steps) by one step of model.dt, evaluating loads
+// at every stage it needs them.
 #pragma once
 
 #include "physics/integrator.hpp"
@@ -9,15 +10,18 @@ namespace rigid::physics::detail {
 
 // The course notes' schemes (GAMES103, "Rigid Body Dynamics"): explicit Euler, semi-implicit
 // Euler, midpoint or leapfrog for translation, each with the notes' rotation update.
-void step_notes(Model& m, IntegratorId which);
+void step_notes(Model& m, IntegratorId which, Share& sh);
 // Catto's implicit gyroscopic step (GDC 2015 "Numerical Methods").
-void step_implicit_gyro(Model& m);
+void step_implicit_gyro(Model& m, Share& sh);
 // Classical Runge-Kutta 4 on the full state (x, v, q, w).
-void step_rk4(Model& m);
+void step_rk4(Model& m, Share& sh);
 // Kick-drift-kick with the Dullweber-Leimkuhler-McLachlan free-rotor splitting.
-void step_dlm(Model& m);
+void step_dlm(Model& m, Share& sh);
 // Kick-drift-kick with the exact free rotor; fourth_order: Suzuki's composition of it.
-void step_exact(Model& m, bool fourth_order);
+void step_exact(Model& m, bool fourth_order, Share& sh);
+// hybrid4: quiet bodies take one exact free-rotor step, loaded ones a fourth-order composition
+// whose drifts are cheap (integrate_exact.cpp).
+void step_hybrid(Model& m, Share& sh, int variant);
 
 // The kick of the spin (w_P or h_P, see model.hpp) over s: spin' = rate - decay . spin with the
 // torque's rate constant, solved exactly per principal axis (angular drag as an exact decay):

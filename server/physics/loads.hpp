@@ -61,13 +61,13 @@ struct Loads {
   }
 
   // Force in W at orientation q = q_WP.
-  Vec3 force_W(const Quat& q) const {
+  [[gnu::always_inline]] Vec3 force_W(const Quat& q) const {
     Vec3 f = f_W;
     if (flags & kBodyForce) f += q * f_P;
     return f;
   }
   // Torque in P at orientation q = q_WP.
-  Vec3 torque_P(const Quat& q) const {
+  [[gnu::always_inline]] Vec3 torque_P(const Quat& q) const {
     Vec3 t = tau_P;
     if (flags & kWorldTorque) t += q.conjugate() * tau_W;
     if (flags & kLever) {

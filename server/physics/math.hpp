@@ -45,6 +45,26 @@ inline void cos_sinc(double t, double& c, double& sinc) {
   }
 }
 
+// cos(t) and sin(t)/t from t^2 alone: no square root while |t| < kSmallAngle (the same series as
+// cos_sinc, chosen by t^2), so that a rotation by a vector needs no norm.
+inline void cos_sinc_sq(double t2, double& c, double& sinc) {
+  if (t2 < kSmallAngle * kSmallAngle) {  // next terms t^14/14! < 1e-27
+    c = 1.0 + t2 * (-1.0 / 2 +
+                    t2 * (1.0 / 24 +
+                          t2 * (-1.0 / 720 + t2 * (1.0 / 40320 + t2 * (-1.0 / 3628800 +
+                                                                       t2 * (1.0 / 479001600))))));
+    sinc = 1.0 +
+           t2 * (-1.0 / 6 +
+                 t2 * (1.0 / 120 + t2 * (-1.0 / 5040 +
+                                         t2 * (1.0 / 362880 + t2 * (-1.0 / 39916800 +
+                                                                    t2 * (1.0 / 6227020800.0))))));
+  } else {
+    const double t = std::sqrt(t2);
+    c = std::cos(t);
+    sinc = std::sin(t) / t;
+  }
+}
+
 // The unit quaternion of the rotation vector phi (angle |phi| about phi/|phi|): exp(phi/2).
 inline Quat quat_exp(const Vec3& phi) {
   double c, sinc;

@@ -37,8 +37,9 @@ struct Linear {
   Vec3 accel(const Vec3& f_W) const { return g + inv_m.cwiseProduct(f_W); }
 };
 
-// Step sizes for which translation coefficients are tabulated (composition stages included).
-enum TransSize : int { kFull, kHalf, kStage0, kStage1, kNumSizes };
+// Step sizes for which translation coefficients are tabulated (composition stages included):
+// Suzuki's two stage sizes (exact_rotor4), then the forced composition's (ForcedComposition).
+enum TransSize : int { kFull, kHalf, kStage0, kStage1, kForced0, kForced1, kNumSizes };
 
 // Translation coefficients per distinct drag rate, so that stepping needs no exp().
 struct TransTable {
@@ -81,8 +82,13 @@ struct DiagRot {
   Vec3 drag_rates() const { return k * inv_I; }
 };
 
-// The bodies of one model, structure of arrays over bodies.
+// The bodies of one model, structure of arrays over bodies. The entries are kept in two runs:
+// [0, quiet_end) the bodies whose loads leave them quiet (Loads::quiet(): nothing turns them), then
+// the loaded ones. A body moves between the runs (World::Impl::regroup, a swap with the boundary
+// entry) when its loads start or stop, so that an integrator with a path for each kind loops over
+// each run without a per-body branch. Bodies are independent: their order changes no result.
 struct Group {
+  int quiet_end = 0;
   std::vector<int> id;  // body id of each entry
   std::vector<Motion> motion;
   std::vector<Linear> linear;
@@ -90,9 +96,12 @@ struct Group {
   int size() const { return static_cast<int>(id.size()); }
 };
 
-struct PointGroup : Group {};
+struct PointGroup : Group {
+  static constexpr int kIndex = 0;
+};
 
 struct IsoGroup : Group {
+  static constexpr int kIndex = 1;
   std::vector<IsoRot> rot;
   // Exact-rotation cache: exp(h w) for the current w, valid while no torque or impulse changes w.
   std::vector<Quat> dq;
@@ -100,12 +109,14 @@ struct IsoGroup : Group {
 };
 
 struct AxiGroup : Group {
+  static constexpr int kIndex = 2;
   std::vector<DiagRot> rot;
   std::vector<AxisymPlan> plan;
   std::vector<std::uint8_t> plan_ok;
 };
 
 struct GenGroup : Group {
+  static constexpr int kIndex = 3;
   std::vector<DiagRot> rot;
   std::vector<RotorInertia> rotor;
   std::vector<RotorPlan> plan;
@@ -124,11 +135,45 @@ struct Composition {
   static constexpr TransSize kSize[kStages] = {kStage0, kStage0, kStage1, kStage0, kStage0};
 };
 
+// A run of entries of one group, [begin, end).
+struct Range {
+  int begin = 0, end = 0;
+};
+
+// The share of one step's work that one thread does: per group (by kIndex), a contiguous slice of
+// all its entries (for integrators with one path), and a slice of each run (quiet, loaded) for
+// those with a path per kind. The slices of all threads cover each group exactly once; a body's
+// arithmetic never depends on which thread or slice steps it, so states are bit-identical for any
+// number of threads.
+struct Share {
+  Range all[4];
+  Range run[4][2];  // [group][0: quiet, 1: loaded]
+  // Body-steps of this share in which a body turned by more than pi (see Model::large_rotations).
+  std::int64_t large_rotations = 0;
+
+  // Counts a step of angle |w| dt > pi.
+  void note_rotation(double dt, const Vec3& w) {
+    constexpr double kPi2 = 9.8696044010893586188;  // pi^2
+    if (dt * dt * w.squaredNorm() > kPi2) ++large_rotations;
+  }
+};
+
+// Yoshida's triple jump (Yoshida, Phys. Lett. A 150, 1990; Creutz & Gocksch 1989): the cheapest
+// symmetric composition of a symmetric second-order step into fourth order, stages
+// (g1, g0, g1) with g1 = 1 / (2 - 2^(1/3)), g0 = 1 - 2 g1.
+struct TripleJump {
+  static constexpr int kStages = 3;
+  static constexpr double kG1 = 1.35120719195965763405;
+  static constexpr double kStage[kStages] = {kG1, 1.0 - 2.0 * kG1, kG1};
+  static constexpr TransSize kSize[kStages] = {kForced0, kForced1, kForced0};
+};
+
 struct Model {
   double dt = 1e-3;
   // Body-steps in which a body turned by more than pi under an integrator that is not exact for
   // large rotations (all but the exact-rotor splittings): counted so that callers can report
-  // them; the step itself is taken as the scheme defines it, never clamped.
+  // them; the step itself is taken as the scheme defines it, never clamped. The sum of the
+  // threads' Share::large_rotations, added after each step.
   std::int64_t large_rotations = 0;
   PointGroup point;
   IsoGroup iso;
@@ -137,11 +182,6 @@ struct Model {
   TransTable trans;
 
   const TransCoef& tc(const Linear& l, TransSize s) const { return trans.coef[l.drag][s]; }
-  // Counts a step of angle |w| dt > pi.
-  void note_rotation(const Vec3& w) {
-    constexpr double kPi2 = 9.8696044010893586188;  // pi^2
-    if (dt * dt * w.squaredNorm() > kPi2) ++large_rotations;
-  }
 };
 
 // Fills the translation table for the model's dt.

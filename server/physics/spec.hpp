@@ -63,6 +63,9 @@ struct WorldSpec {
   Vec3 g_W{0.0, 0.0, -9.81};
   double dt = 1e-3;        // physics step (s), > 0
   std::string integrator;  // empty: the default integrator
+  // Threads that step the world (World::set_threads): >= 1; 0 takes the machine's hardware
+  // concurrency. States are bit-identical for any count.
+  int threads = 1;
   std::vector<BodySpec> bodies;
   std::vector<LoadSpec> loads;
 };

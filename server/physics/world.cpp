@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
 #include <unordered_map>
 
 #include "physics/inertia.hpp"
 #include "physics/kernels.hpp"
 #include "physics/model.hpp"
+#include "physics/pool.hpp"
 
 namespace rigid::physics {
 
@@ -73,6 +75,8 @@ void build_trans_table(Model& m) {
     row[kHalf] = trans_coef(g, 0.5 * m.dt);
     row[kStage0] = trans_coef(g, Composition::kStage[0] * m.dt);
     row[kStage1] = trans_coef(g, Composition::kStage[Composition::kStages / 2] * m.dt);
+    row[kForced0] = trans_coef(g, TripleJump::kStage[0] * m.dt);
+    row[kForced1] = trans_coef(g, TripleJump::kStage[1] * m.dt);
   }
 }
 
@@ -97,8 +101,41 @@ struct World::Impl {
   std::vector<Linear> linear0;
   std::vector<std::uint8_t> frozen;
   std::vector<int> frozen_ids;  // capacity reserved: no allocation
+  // Bodies whose loads may have moved them between the quiet and the loaded run of their group
+  // (model.hpp), placed at the start of the next step (capacity reserved: no allocation).
+  std::vector<int> regroup_ids;
+  std::vector<std::uint8_t> regroup_flag;
+  // The step's threads and their shares of the work (set_threads).
+  int threads = 1;
+  std::vector<detail::Share> shares;
+  struct PoolHandle {
+    std::unique_ptr<detail::Pool> pool;
+    PoolHandle() = default;
+    PoolHandle(PoolHandle&&) noexcept = default;
+    PoolHandle& operator=(PoolHandle&&) noexcept = default;
+    // A copied World gets a pool of its own.
+    PoolHandle(const PoolHandle& o)
+        : pool(o.pool ? std::make_unique<detail::Pool>(o.pool->size()) : nullptr) {}
+    PoolHandle& operator=(const PoolHandle& o) {
+      if (this != &o) pool = o.pool ? std::make_unique<detail::Pool>(o.pool->size()) : nullptr;
+      return *this;
+    }
+  } pool;
 
   void compile();
+  void set_threads(int n);
+  void plan_shares(int used);
+  void run_share(detail::Share& sh);
+  // Called after anything that may change whether a body's loads leave it quiet.
+  void loads_changed(int id, bool was_quiet) {
+    if (loads(id).quiet() != was_quiet && !regroup_flag[id]) {
+      regroup_flag[id] = 1;
+      regroup_ids.push_back(id);  // within the reserved capacity
+    }
+  }
+  void regroup();
+  void place(int id);
+  void swap_entries(BodyModel model, int a, int b);
   Group& group(BodyModel m) {
     switch (m) {
       case BodyModel::kPoint:
@@ -174,6 +211,11 @@ void World::Impl::compile() {
   }
   if (!finite(spec.g_W))
     throw SpecError(-1, "gravity", "world: gravity must be finite, got " + fmt(spec.g_W));
+  if (spec.threads < 0) {
+    throw SpecError(-1, "threads",
+                    "world: threads must be >= 0 (0: the hardware concurrency), got " +
+                        std::to_string(spec.threads));
+  }
   integrator = spec.integrator.empty() ? &default_integrator() : find_integrator(spec.integrator);
   if (integrator == nullptr) {
     std::string names;
@@ -357,6 +399,124 @@ void World::Impl::compile() {
   frozen.assign(n, 0);
   frozen_ids.clear();
   frozen_ids.reserve(n);
+  regroup_flag.assign(n, 0);
+  regroup_ids.clear();
+  regroup_ids.reserve(n);
+  for (int i = 0; i < n; ++i)
+    place(i);
+  set_threads(spec.threads);
+}
+
+void World::Impl::swap_entries(BodyModel kind, int a, int b) {
+  if (a == b) return;
+  const auto sw = [&](auto& v) { std::swap(v[a], v[b]); };
+  Group& g = group(kind);
+  sw(g.id);
+  sw(g.motion);
+  sw(g.linear);
+  sw(g.loads);
+  switch (kind) {
+    case BodyModel::kPoint:
+      break;
+    case BodyModel::kIsotropic:
+      sw(model.iso.rot), sw(model.iso.dq), sw(model.iso.dq_ok);
+      break;
+    case BodyModel::kAxisymmetric:
+      sw(model.axi.rot), sw(model.axi.plan), sw(model.axi.plan_ok);
+      break;
+    case BodyModel::kGeneral:
+      sw(model.gen.rot), sw(model.gen.rotor), sw(model.gen.plan), sw(model.gen.plan_ok);
+      sw(model.gen.axis);
+      break;
+  }
+  slot[g.id[a]].index = a;
+  slot[g.id[b]].index = b;
+}
+
+// Puts a body in the run of its group that its loads call for: a swap with the boundary entry.
+void World::Impl::place(int id) {
+  const Slot s = slot[id];
+  Group& g = group(s.model);
+  const bool quiet = g.loads[s.index].quiet();
+  if (quiet == (s.index < g.quiet_end)) return;
+  if (quiet) {
+    swap_entries(s.model, s.index, g.quiet_end);
+    ++g.quiet_end;
+  } else {
+    --g.quiet_end;
+    swap_entries(s.model, s.index, g.quiet_end);
+  }
+}
+
+void World::Impl::regroup() {
+  for (int id : regroup_ids) {
+    regroup_flag[id] = 0;
+    place(id);
+  }
+  regroup_ids.clear();
+}
+
+void World::Impl::set_threads(int n) {
+  if (n < 0) throw std::invalid_argument("threads must be >= 0, got " + std::to_string(n));
+  if (n == 0) n = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  threads = n;
+  shares.assign(static_cast<std::size_t>(n), detail::Share{});
+  pool.pool = n > 1 ? std::make_unique<detail::Pool>(n) : nullptr;
+}
+
+namespace {
+// Slice k of `used` equal slices of [b, e).
+detail::Range slice(int b, int e, int k, int used) {
+  const long n = e - b;
+  return {b + static_cast<int>(n * k / used), b + static_cast<int>(n * (k + 1) / used)};
+}
+}  // namespace
+
+void World::Impl::plan_shares(int used) {
+  const Group* gs[4] = {&model.point, &model.iso, &model.axi, &model.gen};
+  for (int k = 0; k < used; ++k) {
+    detail::Share& sh = shares[k];
+    sh.large_rotations = 0;
+    for (int gi = 0; gi < 4; ++gi) {
+      const int n = gs[gi]->size(), q = gs[gi]->quiet_end;
+      sh.all[gi] = slice(0, n, k, used);
+      sh.run[gi][0] = slice(0, q, k, used);
+      sh.run[gi][1] = slice(q, n, k, used);
+    }
+  }
+}
+
+void World::Impl::run_share(detail::Share& sh) {
+  Model& m = model;
+  switch (integrator->id) {
+    case IntegratorId::kNotesExplicitEuler:
+    case IntegratorId::kNotesSemiImplicitEuler:
+    case IntegratorId::kNotesMidpoint:
+    case IntegratorId::kNotesLeapfrog:
+      detail::step_notes(m, integrator->id, sh);
+      break;
+    case IntegratorId::kImplicitGyro:
+      detail::step_implicit_gyro(m, sh);
+      break;
+    case IntegratorId::kRk4:
+      detail::step_rk4(m, sh);
+      break;
+    case IntegratorId::kDlm:
+      detail::step_dlm(m, sh);
+      break;
+    case IntegratorId::kExactRotor:
+      detail::step_exact(m, false, sh);
+      break;
+    case IntegratorId::kExactRotor4:
+      detail::step_exact(m, true, sh);
+      break;
+    case IntegratorId::kHybrid4:
+      detail::step_hybrid(m, sh, 0);
+      break;
+    case IntegratorId::kHybrid4Suzuki:
+      detail::step_hybrid(m, sh, 1);
+      break;
+  }
 }
 
 namespace {
@@ -393,7 +553,9 @@ void World::Impl::freeze(int id) {
   lin.inv_m.setZero();
   lin.gamma = 0.0;
   lin.drag = 0;
+  const bool was_quiet = loads(id).quiet();
   loads(id) = Loads{};
+  loads_changed(id, was_quiet);
   pending_J[id].setZero();
   pending_L[id].setZero();
   invalidate_cache(id);
@@ -546,30 +708,25 @@ World& World::operator=(const World& o) {
 void World::step() {
   Impl& w = *impl_;
   if (!w.pending.empty()) w.apply_pending_impulses();
-  Model& m = w.model;
-  switch (w.integrator->id) {
-    case IntegratorId::kNotesExplicitEuler:
-    case IntegratorId::kNotesSemiImplicitEuler:
-    case IntegratorId::kNotesMidpoint:
-    case IntegratorId::kNotesLeapfrog:
-      detail::step_notes(m, w.integrator->id);
-      break;
-    case IntegratorId::kImplicitGyro:
-      detail::step_implicit_gyro(m);
-      break;
-    case IntegratorId::kRk4:
-      detail::step_rk4(m);
-      break;
-    case IntegratorId::kDlm:
-      detail::step_dlm(m);
-      break;
-    case IntegratorId::kExactRotor:
-      detail::step_exact(m, false);
-      break;
-    case IntegratorId::kExactRotor4:
-      detail::step_exact(m, true);
-      break;
+  if (!w.regroup_ids.empty()) w.regroup();
+  const int bodies = static_cast<int>(w.slot.size());
+  const int used = std::max(1, std::min(w.threads, bodies / kMinBodiesPerThread));
+  w.plan_shares(used);
+  if (used == 1) {
+    w.run_share(w.shares[0]);
+  } else {
+    // Threads beyond `used` get empty shares.
+    for (int k = used; k < w.threads; ++k)
+      w.shares[k] = detail::Share{};
+    w.pool.pool->run(
+        [](void* ctx, int k) {
+          Impl& impl = *static_cast<Impl*>(ctx);
+          impl.run_share(impl.shares[k]);
+        },
+        &w);
   }
+  for (int k = 0; k < used; ++k)
+    w.model.large_rotations += w.shares[k].large_rotations;
   ++w.steps;
   if (w.steps % kGuardEvery == 0) w.guard();
 }
@@ -577,6 +734,13 @@ void World::step() {
 void World::step(std::int64_t n) {
   for (std::int64_t i = 0; i < n; ++i)
     step();
+}
+
+void World::set_threads(int n) {
+  impl_->set_threads(n);
+}
+int World::threads() const {
+  return impl_->threads;
 }
 
 double World::dt() const {
@@ -665,13 +829,18 @@ void World::reset() {
 
 void World::clear_applied() {
   Impl& w = *impl_;
-  for (int i = 0; i < body_count(); ++i)
-    w.loads(i) = w.base_loads[i];
+  for (int i = 0; i < body_count(); ++i) {
+    const bool was_quiet = w.loads(i).quiet();
+    w.loads(i) = w.frozen[i] ? Loads{} : w.base_loads[i];
+    w.loads_changed(i, was_quiet);
+  }
 }
 
 void World::clear_applied(int id) {
   impl_->check_id(id);
+  const bool was_quiet = impl_->loads(id).quiet();
   impl_->loads(id) = impl_->frozen[id] ? Loads{} : impl_->base_loads[id];
+  impl_->loads_changed(id, was_quiet);
 }
 
 std::span<const int> World::frozen_bodies() const {
@@ -688,7 +857,9 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const Quat q_PB = w.q_BP[id].conjugate();
   const bool body = frame == Frame::kBody;
+  const bool was_quiet = w.loads(id).quiet();
   w.loads(id).add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
+  w.loads_changed(id, was_quiet);
 }
 
 void World::add_torque(int id, const Vec3& tau, Frame frame) {
@@ -696,7 +867,9 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
   w.check_id(id);
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
+  const bool was_quiet = w.loads(id).quiet();
   w.loads(id).add_torque(body ? Vec3(w.q_BP[id].conjugate() * tau) : tau, body);
+  w.loads_changed(id, was_quiet);
 }
 
 void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame) {

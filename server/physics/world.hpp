@@ -7,9 +7,12 @@
 //
 // Pipeline of one step (World::step):
 //   1. apply pending impulses (momentum jumps, then cleared);
-//   2. for each body model, run the integrator's kernel over that model's contiguous arrays; the
-//      kernel evaluates the loads (scene loads + applied loads) at every stage it needs them;
-//   3. advance time = step_count * dt (never accumulated, so it does not drift).
+//   2. regroup the bodies whose loads started or stopped turning them (each model's arrays hold its
+//      quiet bodies, then its loaded ones: model.hpp);
+//   3. for each body model, run the integrator's kernel over that model's contiguous arrays, each
+//      thread of the pool (set_threads) over its own slice; the kernel evaluates the loads (scene
+//      loads + applied loads) at every stage it needs them;
+//   4. advance time = step_count * dt (never accumulated, so it does not drift).
 #pragma once
 
 #include <cstdint>
@@ -67,6 +70,15 @@ class World {
   // Advances by one step of dt(). Allocation-free.
   void step();
   void step(std::int64_t n);
+
+  // The threads that step the world: each body model's bodies are split over a fixed pool, created
+  // here once (no thread is created or lock taken while stepping beyond the pool's barrier). Small
+  // worlds (fewer than kMinBodiesPerThread bodies a thread) are stepped on the calling thread
+  // alone. States are bit-identical for any count. n = 0: the hardware concurrency. Throws
+  // std::invalid_argument for n < 0.
+  static constexpr int kMinBodiesPerThread = 256;
+  void set_threads(int n);
+  int threads() const;
 
   double dt() const;
   double time() const;

@@ -15,40 +15,40 @@ void get(const Field& in, std::vector<T>& out) {
   out.assign(in.begin(), in.end());
 }
 
-void put3(const transport::Vec3& in, msgs::Vector3* out) {
+void put3(const rigid::Vec3& in, msgs::Vector3* out) {
   out->set_x(in[0]);
   out->set_y(in[1]);
   out->set_z(in[2]);
 }
 
-transport::Vec3 get3(const msgs::Vector3& in) {
+rigid::Vec3 get3(const msgs::Vector3& in) {
   return {in.x(), in.y(), in.z()};
 }
 
-msgs::Force::Frame put_frame(transport::Frame f) {
-  return f == transport::Frame::kBody ? msgs::Force::BODY : msgs::Force::WORLD;
+msgs::Force::Frame put_frame(rigid::Frame f) {
+  return f == rigid::Frame::kBody ? msgs::Force::BODY : msgs::Force::WORLD;
 }
 
-transport::Frame get_frame(msgs::Force::Frame f) {
-  return f == msgs::Force::BODY ? transport::Frame::kBody : transport::Frame::kWorld;
+rigid::Frame get_frame(msgs::Force::Frame f) {
+  return f == msgs::Force::BODY ? rigid::Frame::kBody : rigid::Frame::kWorld;
 }
 
-void put_counts(const transport::TransportCounts& c,
+void put_counts(const rigid::TransportCounts& c,
                 google::protobuf::RepeatedField<std::int64_t>* out) {
   out->Clear();
   for (const std::int64_t v : {c.sent, c.send_failures, c.received, c.decode_failures})
     out->Add(v);
 }
 
-transport::TransportCounts get_counts(const google::protobuf::RepeatedField<std::int64_t>& in) {
-  transport::TransportCounts c;
+rigid::TransportCounts get_counts(const google::protobuf::RepeatedField<std::int64_t>& in) {
+  rigid::TransportCounts c;
   if (in.size() == 4) c = {in[0], in[1], in[2], in[3]};
   return c;
 }
 
 }  // namespace
 
-void to_record(const transport::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out) {
+void to_record(const rigid::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out) {
   out.set_tick(in.tick);
   out.set_sim_time(in.sim_time);
   out.set_stamp_ns(in.stamp_ns);
@@ -60,7 +60,7 @@ void to_record(const transport::StateFrame& in, std::int64_t recorded_ns, msgs::
   out.set_recorded_ns(recorded_ns);
 }
 
-bool from_record(const msgs::StateRecord& in, transport::StateFrame& out) {
+bool from_record(const msgs::StateRecord& in, rigid::StateFrame& out) {
   out.tick = in.tick();
   out.sim_time = in.sim_time();
   out.stamp_ns = in.stamp_ns();
@@ -72,7 +72,7 @@ bool from_record(const msgs::StateRecord& in, transport::StateFrame& out) {
   return out.lengths_agree();
 }
 
-void to_record(const transport::SceneDescription& in, std::int64_t recorded_ns,
+void to_record(const rigid::SceneDescription& in, std::int64_t recorded_ns,
                msgs::SceneRecord& out) {
   out.set_scene_name(in.scene_name);
   out.set_dt(in.dt);
@@ -90,13 +90,13 @@ void to_record(const transport::SceneDescription& in, std::int64_t recorded_ns,
   put(in.masses, out.mutable_masses());
   put(in.inertia, out.mutable_inertia());
   out.clear_shape_kinds();
-  for (const transport::ShapeKind k : in.shape_kinds)
+  for (const rigid::ShapeKind k : in.shape_kinds)
     out.add_shape_kinds(static_cast<std::int32_t>(k));
   put(in.shape_dims, out.mutable_shape_dims());
   out.set_recorded_ns(recorded_ns);
 }
 
-bool from_record(const msgs::SceneRecord& in, transport::SceneDescription& out) {
+bool from_record(const msgs::SceneRecord& in, rigid::SceneDescription& out) {
   out.scene_name = in.scene_name();
   out.dt = in.dt();
   out.substeps = in.substeps();
@@ -114,12 +114,12 @@ bool from_record(const msgs::SceneRecord& in, transport::SceneDescription& out) 
   get(in.inertia(), out.inertia);
   out.shape_kinds.resize(static_cast<std::size_t>(in.shape_kinds_size()));
   std::transform(in.shape_kinds().begin(), in.shape_kinds().end(), out.shape_kinds.begin(),
-                 [](std::int32_t k) { return static_cast<transport::ShapeKind>(k); });
+                 [](std::int32_t k) { return static_cast<rigid::ShapeKind>(k); });
   get(in.shape_dims(), out.shape_dims);
   return out.lengths_agree();
 }
 
-void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out) {
+void to_record(const rigid::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out) {
   out.set_tick(in.tick);
   out.set_sim_time(in.sim_time);
   out.set_mode(static_cast<std::int32_t>(in.mode));
@@ -151,10 +151,10 @@ void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs:
   out.set_recorded_ns(recorded_ns);
 }
 
-void from_record(const msgs::StatsRecord& in, transport::StatsReport& out) {
+void from_record(const msgs::StatsRecord& in, rigid::StatsReport& out) {
   out.tick = in.tick();
   out.sim_time = in.sim_time();
-  out.mode = static_cast<transport::Mode>(in.mode());
+  out.mode = static_cast<rigid::Mode>(in.mode());
   out.paused = in.paused();
   out.rtf_last_second = in.rtf_last_second();
   out.rtf_since_start = in.rtf_since_start();
@@ -168,20 +168,20 @@ void from_record(const msgs::StatsRecord& in, transport::StatsReport& out) {
   out.large_rotation_steps = in.large_rotation_steps();
   out.states_skipped = in.states_skipped();
   out.commands_accepted = in.commands_accepted();
-  out.rejected = {in.rejected_non_finite(),    in.rejected_unknown_body(),
-                  in.rejected_over_limit(),    in.rejected_undecodable(),
+  out.rejected = {in.rejected_non_finite(),     in.rejected_unknown_body(),
+                  in.rejected_over_limit(),     in.rejected_undecodable(),
                   in.rejected_stale_sequence(), in.rejected_queue_full(),
-                  in.rejected_invalid(),       in.rejected_over_share(),
-                  in.rejected_rate_limited(),  in.rejected_not_permitted()};
+                  in.rejected_invalid(),        in.rejected_over_share(),
+                  in.rejected_rate_limited(),   in.rejected_not_permitted()};
   out.dds = get_counts(in.dds());
   out.lcm = get_counts(in.lcm());
 }
 
-void to_record(const transport::AcceptedCommand& in, std::int64_t recorded_ns,
+void to_record(const rigid::AcceptedCommand& in, std::int64_t recorded_ns,
                msgs::CommandRecord& out) {
   out.set_tick(in.tick);
-  out.set_kind(in.kind == transport::AcceptedKind::kControl ? msgs::CommandRecord::CONTROL
-                                                            : msgs::CommandRecord::WRENCH);
+  out.set_kind(in.kind == rigid::AcceptedKind::kControl ? msgs::CommandRecord::CONTROL
+                                                        : msgs::CommandRecord::WRENCH);
   out.set_source(in.source);
   out.set_seq(in.seq);
   out.set_key(in.key);
@@ -199,10 +199,10 @@ void to_record(const transport::AcceptedCommand& in, std::int64_t recorded_ns,
   out.set_recorded_ns(recorded_ns);
 }
 
-void from_record(const msgs::CommandRecord& in, transport::AcceptedCommand& out) {
+void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out) {
   out.tick = in.tick();
-  out.kind = in.kind() == msgs::CommandRecord::CONTROL ? transport::AcceptedKind::kControl
-                                                       : transport::AcceptedKind::kWrench;
+  out.kind = in.kind() == msgs::CommandRecord::CONTROL ? rigid::AcceptedKind::kControl
+                                                       : rigid::AcceptedKind::kWrench;
   out.source = in.source();
   out.seq = in.seq();
   out.key = in.key();
@@ -213,7 +213,7 @@ void from_record(const msgs::CommandRecord& in, transport::AcceptedCommand& out)
   out.torque = get3(in.torque());
   out.torque_frame = get_frame(in.torque_frame());
   out.ttl = in.ttl();
-  out.command = static_cast<transport::ControlKind>(in.command());
+  out.command = static_cast<rigid::ControlKind>(in.command());
   out.steps = in.steps();
   out.rtf = in.rtf();
   out.stamp_ns = in.stamp_ns();

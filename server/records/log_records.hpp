@@ -6,22 +6,21 @@
 #include <cstdint>
 
 #include "rigid.pb.h"
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::records {
 
 // recorded_ns: CLOCK_MONOTONIC since the file was started (the pace `play` replays at).
-void to_record(const transport::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out);
-void to_record(const transport::SceneDescription& in, std::int64_t recorded_ns,
-               msgs::SceneRecord& out);
-void to_record(const transport::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out);
-void to_record(const transport::AcceptedCommand& in, std::int64_t recorded_ns,
+void to_record(const rigid::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out);
+void to_record(const rigid::SceneDescription& in, std::int64_t recorded_ns, msgs::SceneRecord& out);
+void to_record(const rigid::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out);
+void to_record(const rigid::AcceptedCommand& in, std::int64_t recorded_ns,
                msgs::CommandRecord& out);
 
 // false: the record's per-body arrays disagree with its body count (`out` is then unspecified).
-bool from_record(const msgs::StateRecord& in, transport::StateFrame& out);
-bool from_record(const msgs::SceneRecord& in, transport::SceneDescription& out);
-void from_record(const msgs::StatsRecord& in, transport::StatsReport& out);
-void from_record(const msgs::CommandRecord& in, transport::AcceptedCommand& out);
+bool from_record(const msgs::StateRecord& in, rigid::StateFrame& out);
+bool from_record(const msgs::SceneRecord& in, rigid::SceneDescription& out);
+void from_record(const msgs::StatsRecord& in, rigid::StatsReport& out);
+void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out);
 
 }  // namespace rigid::records

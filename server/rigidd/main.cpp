@@ -18,11 +18,11 @@
 #include "loop/log.hpp"
 #include "loop/server.hpp"
 #include "rigidd/rigidd_options.hpp"
-#include "rigidd/signal_watcher.hpp"
 #include "rigidd/systemd_notifier.hpp"
 #include "scene/scene.hpp"
 #include "transport/dds/dds_transport.hpp"
 #include "transport/lcm/lcm_transport.hpp"
+#include "util/signal_watcher.hpp"
 
 namespace {
 
@@ -73,7 +73,7 @@ std::string scene_text(const std::string& path) {
 int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   // Block SIGTERM and SIGINT before any thread exists (the buses start threads), so that only
   // the signalfd sees them.
-  rigidd::SignalWatcher signals({SIGTERM, SIGINT});
+  util::SignalWatcher signals({SIGTERM, SIGINT});
   // A 1000-body state is ~110 KB: above glibc's default mmap threshold every serialization buffer
   // would be mapped and unmapped, page-faulting on each publish (shared/NETWORKING.md).
   mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
@@ -110,16 +110,14 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
       o.prefix = options.prefix;
       o.reliable_state = options.reliable_state;
       o.security = options.security;
-      server.add_transport(
-          transport::dds::make_transport(o, server.receiver(transport::Bus::kDds)));
+      server.add_transport(transport::dds::make_transport(o, server.receiver(rigid::Bus::kDds)));
     }
     if (options.lcm) {
       transport::lcm::Options o;
       o.role = transport::Role::kServer;
       o.url = lcm_url;
       o.prefix = options.prefix;
-      server.add_transport(
-          transport::lcm::make_transport(o, server.receiver(transport::Bus::kLcm)));
+      server.add_transport(transport::lcm::make_transport(o, server.receiver(rigid::Bus::kLcm)));
     }
   } catch (const transport::TransportError& e) {
     log.line(e.what());

@@ -38,13 +38,13 @@ void parse_transports(std::string_view list, RigiddOptions& o) {
 
 }  // namespace
 
-std::string_view mode_name(transport::Mode mode) {
+std::string_view mode_name(rigid::Mode mode) {
   switch (mode) {
-    case transport::Mode::kRealtime:
+    case rigid::Mode::kRealtime:
       return "realtime";
-    case transport::Mode::kFast:
+    case rigid::Mode::kFast:
       return "fast";
-    case transport::Mode::kLockstep:
+    case rigid::Mode::kLockstep:
       return "lockstep";
   }
   return "?";
@@ -96,11 +96,11 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       o.transports_given = true;
     } else if (name == "--mode") {
       if (*value == "realtime") {
-        o.mode = transport::Mode::kRealtime;
+        o.mode = rigid::Mode::kRealtime;
       } else if (*value == "fast") {
-        o.mode = transport::Mode::kFast;
+        o.mode = rigid::Mode::kFast;
       } else if (*value == "lockstep") {
-        o.mode = transport::Mode::kLockstep;
+        o.mode = rigid::Mode::kLockstep;
       } else {
         throw UsageError("--mode: expected realtime, fast or lockstep, got " + quoted(*value));
       }
@@ -159,11 +159,20 @@ std::string default_scene_path(const std::string& source_dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_regular_file(fs::path(kDefaultScene), ec)) return std::string(kDefaultScene);
+  // An installed rigidd: PREFIX/bin/rigidd finds PREFIX/share/rigid/scenes/default.pbtxt.
+  const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed =
+        (program.parent_path() / RIGID_DATADIR_FROM_BINDIR / "rigid/scenes/default.pbtxt")
+            .lexically_normal();
+    if (fs::is_regular_file(installed, ec)) return installed.string();
+  }
   const fs::path built_from = fs::path(source_dir) / kDefaultScene;
   if (fs::is_regular_file(built_from, ec)) return built_from.string();
   throw UsageError("no --scene given, and " + std::string(kDefaultScene) +
-                   " is neither under the current directory nor under " + source_dir +
-                   " (give --scene FILE)");
+                   " is neither under the current directory, nor installed beside rigidd, nor "
+                   "under " +
+                   source_dir + " (give --scene FILE)");
 }
 
 std::string usage() {
@@ -176,7 +185,8 @@ Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclo
 and takes wrenches (forces at body points) and control requests from clients on both buses.
 
   --scene FILE       the scene (protobuf text format); default config/scenes/default.pbtxt under
-                     the current directory, else under the source tree rigidd was built from
+                     the current directory, else the installed one (PREFIX/share/rigid/scenes),
+                     else under the source tree rigidd was built from
   --transport LIST   the buses: dds, lcm or dds,lcm (default both)
   --mode MODE        realtime: ticks at the scene's rate_hz (default); fast: as fast as possible;
                      lockstep: a tick only on step requests

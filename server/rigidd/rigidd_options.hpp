@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::rigidd {
 
@@ -18,7 +18,7 @@ struct RigiddOptions {
   bool dds = true;                   // --transport
   bool lcm = true;
   bool transports_given = false;  // --transport was on the command line
-  transport::Mode mode = transport::Mode::kRealtime;
+  rigid::Mode mode = rigid::Mode::kRealtime;
   std::uint32_t dds_domain = 0;
   std::string lcm_url;  // empty: transport::lcm::kDefaultUrl
   std::string prefix;
@@ -42,12 +42,13 @@ class UsageError : public std::runtime_error {
 RigiddOptions parse_options(std::span<const std::string_view> args);
 
 // The scene rigidd runs without --scene: config/scenes/default.pbtxt under the current directory
-// if it exists (running from a checkout), else under `source_dir` (the tree rigidd was built from,
+// if it exists (running from a checkout), else the installed one (BINDIR/../share/rigid/scenes),
+// else under `source_dir` (the tree rigidd was built from,
 // so it also works from the build directory). Throws UsageError naming both places if neither has
 // it.
 std::string default_scene_path(const std::string& source_dir);
 
-std::string_view mode_name(transport::Mode mode);
+std::string_view mode_name(rigid::Mode mode);
 
 std::string usage();
 

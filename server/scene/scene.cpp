@@ -22,8 +22,8 @@
 #include "physics/integrator.hpp"
 #include "physics/world.hpp"
 #include "rigid.pb.h"
+#include "rigid/messages.hpp"
 #include "scene/text_location.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::scene {
 
@@ -212,6 +212,13 @@ class Loader {
            "world: unknown integrator '" + printable(w.integrator()) + "' (valid: " + names + ")");
     }
     scene_.world.integrator = w.integrator();
+    if (w.has_threads()) {
+      if (w.threads() < 0 || w.threads() > 256) {
+        fail(node.at("threads"),
+             "world: threads must be 0 (every core) .. 256, got " + std::to_string(w.threads()));
+      }
+      scene_.world.threads = w.threads();
+    }
 
     const msgs::Limits& l = w.limits();
     const TextNode lnode = node.child("limits");

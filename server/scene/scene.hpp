@@ -18,7 +18,7 @@
 namespace rigid::scene {
 
 // The longest body name: names travel on the buses as bounded strings (msgs/rigid.idl,
-// string<128>; transport::kMaxNameLength).
+// string<128>; rigid::kMaxNameLength).
 inline constexpr std::size_t kMaxBodyNameLength = 128;
 
 // Bounds the daemon enforces on commands from the network.

@@ -15,8 +15,8 @@
 #include "records/log_records.hpp"
 #include "records/record_file.hpp"
 #include "scene/scene.hpp"
-#include "sim/atomic_file.hpp"
 #include "sim/state_csv.hpp"
+#include "util/atomic_file.hpp"
 
 namespace rigid::sim {
 namespace {
@@ -109,15 +109,15 @@ ReplayReport replay(const SimOptions& options) {
                          r.integrator);
   }
 
-  std::unique_ptr<AtomicFile> csv;
+  std::unique_ptr<util::AtomicFile> csv;
   std::string rows;
   if (options.csv) {
-    csv = std::make_unique<AtomicFile>(*options.csv);
+    csv = std::make_unique<util::AtomicFile>(*options.csv);
     r.csv = *options.csv;
-    rows += kStateCsvHeader;
+    rows += util::kStateCsvHeader;
   }
 
-  transport::StateFrame frame;
+  rigid::StateFrame frame;
   loop::shape_state_frame(driven.world(), frame);
   const int bodies = driven.world().body_count();
   // Steps the replay to `tick`; false (and a divergence) if the journal goes back in time, which
@@ -136,13 +136,13 @@ ReplayReport replay(const SimOptions& options) {
   };
 
   msgs::LogRecord record;
-  transport::AcceptedCommand accepted;
+  rigid::AcceptedCommand accepted;
   while (!r.divergence && !r.gap && reader.next(record)) {
     switch (record.record_case()) {
       case msgs::LogRecord::kCommand: {
         records::from_record(record.command(), accepted);
         if (!advance_to(accepted.tick, "command")) break;
-        if (accepted.kind == transport::AcceptedKind::kWrench) {
+        if (accepted.kind == rigid::AcceptedKind::kWrench) {
           ++r.wrenches;
           const loop::Wrench w = loop::wrench_of(accepted);
           if (w.body < 0 || w.body >= bodies) {
@@ -157,7 +157,7 @@ ReplayReport replay(const SimOptions& options) {
           }
         } else {
           ++r.controls;
-          if (accepted.command == transport::ControlKind::kReset) {
+          if (accepted.command == rigid::ControlKind::kReset) {
             driven.reset();
             ++r.resets;
           }

@@ -10,8 +10,8 @@
 #include <optional>
 #include <ostream>
 
-#include "sim/atomic_file.hpp"
 #include "sim/state_csv.hpp"
+#include "util/atomic_file.hpp"
 
 namespace rigid::sim {
 namespace {
@@ -95,13 +95,13 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
   }
   r.energy0 = world.total_energy();
 
-  std::unique_ptr<AtomicFile> csv;
+  std::unique_ptr<util::AtomicFile> csv;
   std::string buffer;
   if (options.csv) {
-    csv = std::make_unique<AtomicFile>(*options.csv);
+    csv = std::make_unique<util::AtomicFile>(*options.csv);
     r.csv = *options.csv;
     buffer.reserve(kCsvChunk + 4096);
-    buffer += kStateCsvHeader;
+    buffer += util::kStateCsvHeader;
     append_state_rows(world, buffer);
     r.csv_rows += world.body_count();
   }

@@ -20,8 +20,4 @@ std::string_view to_string(DecodeStatus status) {
   return "unknown decode status";
 }
 
-std::string_view to_string(Bus bus) {
-  return bus == Bus::kDds ? "dds" : "lcm";
-}
-
 }  // namespace rigid::transport

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "rigid/messages.hpp"
 #include "transport/topic.hpp"
 
 namespace rigid::transport {
@@ -20,10 +21,6 @@ enum class DecodeStatus : std::uint8_t {
 };
 
 std::string_view to_string(DecodeStatus status);
-
-enum class Bus : std::uint8_t { kDds, kLcm };
-
-std::string_view to_string(Bus bus);
 
 // A payload that arrived on `topic` of `bus` and did not decode.
 struct DecodeError {

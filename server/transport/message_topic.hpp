@@ -1,7 +1,7 @@
 // Which topic carries each plain message type, and which role publishes it.
 #pragma once
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 #include "transport/topic.hpp"
 #include "transport/transport.hpp"
 

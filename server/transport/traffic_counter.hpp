@@ -5,7 +5,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 #include "transport/transport.hpp"
 
 namespace rigid::transport {

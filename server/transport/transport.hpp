@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::transport {
 

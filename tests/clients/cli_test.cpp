@@ -35,11 +35,11 @@ TEST(RigidctlOptions, CommandsAndTheirArguments) {
                  "--for", "2.5", "--transport", "lcm", "--prefix", "lab", "--timeout", "0.5"});
   EXPECT_EQ(push.command, ctl::Command::kPush);
   EXPECT_EQ(push.body, "brick");
-  EXPECT_EQ(push.force, (transport::Vec3{1, -2, 0.3}));
-  EXPECT_EQ(push.point, (transport::Vec3{0.5, 0, 0}));
-  EXPECT_EQ(push.frame, transport::Frame::kBody);
+  EXPECT_EQ(push.force, (rigid::Vec3{1, -2, 0.3}));
+  EXPECT_EQ(push.point, (rigid::Vec3{0.5, 0, 0}));
+  EXPECT_EQ(push.frame, rigid::Frame::kBody);
   EXPECT_EQ(push.for_seconds, 2.5);
-  EXPECT_EQ(push.bus.bus, transport::Bus::kLcm);
+  EXPECT_EQ(push.bus.bus, rigid::Bus::kLcm);
   EXPECT_EQ(push.bus.prefix, "lab");
   EXPECT_EQ(push.timeout, std::chrono::milliseconds(500));
 
@@ -136,7 +136,7 @@ TEST(RigidAttitudeOptions, ValuesAndRefusals) {
   const auto v = view(args);
   const controllers::AttitudeOptions o = controllers::parse_options(v);
   EXPECT_EQ(o.body, "craft");
-  EXPECT_EQ(o.target_rpy_deg, (transport::Vec3{10, 0, -5}));
+  EXPECT_EQ(o.target_rpy_deg, (rigid::Vec3{10, 0, -5}));
   EXPECT_EQ(o.max_thrust, 2.0);
   EXPECT_EQ(o.duration, 3.0);
   EXPECT_TRUE(o.exit_when_settled);

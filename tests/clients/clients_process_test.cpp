@@ -30,8 +30,8 @@ namespace rigid::rigidd::testing {
 namespace {
 
 using namespace std::chrono_literals;
+using rigid::Bus;
 using sim::testing::TestDir;
-using transport::Bus;
 
 const std::string kProbe = std::string(RIGIDD_TEST_SCENES) + "/probe.pbtxt";
 const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
@@ -226,7 +226,7 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
   EXPECT_EQ(h.kind(), msgs::LogHeader::RECORDING);
   EXPECT_EQ(h.schema_version(), records::kLogSchemaVersion);
   EXPECT_EQ(h.software_version(), records::software_version());
-  EXPECT_EQ(h.integrator(), "exact_rotor4");
+  EXPECT_EQ(h.integrator(), "hybrid4");  // the default
   EXPECT_DOUBLE_EQ(h.rate_hz(), 1000.0);
   EXPECT_EQ(h.scene().names_size(), 5);
   int states = 0;
@@ -397,8 +397,8 @@ TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
   const std::string journal = dir.file("run.journal");
   Session s(Bus::kDds, kDefault, {"--journal", journal});
   ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
-  transport::ControlCommand harmless;
-  harmless.command = transport::ControlKind::kSetRtf;
+  rigid::ControlCommand harmless;
+  harmless.command = rigid::ControlKind::kSetRtf;
   harmless.rtf = 1.0;
   ASSERT_TRUE(s.client_->handshake(harmless, 10s)) << s.daemon_log();
 
@@ -408,24 +408,24 @@ TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   int sent = 0;
   for (int i = 0; i < 150; ++i) {
-    transport::WrenchCommand w;
+    rigid::WrenchCommand w;
     w.body_id = static_cast<std::int32_t>(random() % 5);
     w.key = static_cast<std::int32_t>(random() % 2);
     w.force = {20 * unit(random), 20 * unit(random), 20 * unit(random)};
     w.point = {0.2 * unit(random), 0.2 * unit(random), 0.2 * unit(random)};
-    w.force_frame = random() % 2 ? transport::Frame::kBody : transport::Frame::kWorld;
+    w.force_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
     if (random() % 4 == 0) w.torque = {unit(random), unit(random), unit(random)};
     w.ttl = 0.05 * static_cast<double>(random() % 5);
     s.client_->send(w);
     ++sent;
     if (i == 75) {
-      transport::ControlCommand c;
-      c.command = transport::ControlKind::kPause;
+      rigid::ControlCommand c;
+      c.command = rigid::ControlKind::kPause;
       ASSERT_TRUE(s.client_->request(c, 5s));
-      c.command = transport::ControlKind::kStep;
+      c.command = rigid::ControlKind::kStep;
       c.steps = 20;
       ASSERT_TRUE(s.client_->request(c, 5s));
-      c.command = transport::ControlKind::kResume;
+      c.command = rigid::ControlKind::kResume;
       ASSERT_TRUE(s.client_->request(c, 5s));
     }
     std::this_thread::sleep_for(std::chrono::microseconds(2000 + random() % 8000));
@@ -451,7 +451,7 @@ class Attitude : public ::testing::TestWithParam<Bus> {};
 TEST_P(Attitude, TheControllerSettlesWithinOneDegreeFromNinetyAndHolds) {
   Session s(GetParam(), kAttitude);
   ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
-  const auto error_deg = [](const transport::StateFrame& f) {
+  const auto error_deg = [](const rigid::StateFrame& f) {
     const physics::Quat q(f.orientation[0], f.orientation[1], f.orientation[2], f.orientation[3]);
     return 2.0 * std::acos(std::min(1.0, std::abs(q.w()))) * 180.0 / M_PI;
   };

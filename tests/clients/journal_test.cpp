@@ -69,7 +69,7 @@ namespace rigid::loop {
 namespace {
 
 using namespace std::chrono_literals;
-using transport::ControlKind;
+using rigid::ControlKind;
 
 // Every body model, gravity, drag, a constant load: what a replay must get exactly right.
 const std::string kScene = R"(
@@ -86,7 +86,7 @@ force { body: "rocket" force { z: 10 } point { x: 0.02 z: -0.5 } frame: BODY }
 class JournalOutput final : public LoopOutput {
  public:
   explicit JournalOutput(Journal& journal) : journal_(journal) {}
-  void offer_state(const transport::StateFrame&, std::int64_t) override {}
+  void offer_state(const rigid::StateFrame&, std::int64_t) override {}
   void reply(const Reply&) override {}
   void journal(const JournalEntry& e) override { journal_.push(e); }
 
@@ -119,10 +119,10 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
   Journaled result;
   std::atomic<std::int64_t> published{0};
   Journal journal({path, 1 << 16}, header(s), log,
-                  [&](const transport::AcceptedCommand&) { ++published; });
+                  [&](const rigid::AcceptedCommand&) { ++published; });
   JournalOutput out(journal);
   LoopConfig config;
-  config.mode = transport::Mode::kFast;
+  config.mode = rigid::Mode::kFast;
   config.tick_dt = 1.0 / s.rate_hz;
   config.publish_every = s.publish_every;
   config.wrench_capacity = 64;  // small: some wrenches find it full, as live
@@ -156,9 +156,9 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
       w.key = static_cast<std::int32_t>(random() % 3);
       w.force = {10 * unit(random), 10 * unit(random), 10 * unit(random)};
       w.point = {0.3 * unit(random), 0.3 * unit(random), 0.3 * unit(random)};
-      w.force_frame = random() % 2 ? transport::Frame::kBody : transport::Frame::kWorld;
+      w.force_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
       if (random() % 3 == 0) w.torque = {unit(random), unit(random), unit(random)};
-      w.torque_frame = random() % 2 ? transport::Frame::kBody : transport::Frame::kWorld;
+      w.torque_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
       w.ttl = 0.05 * static_cast<double>(random() % 4);
       push(c);
     }

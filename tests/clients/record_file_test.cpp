@@ -51,8 +51,8 @@ TEST(Crc32c, ExtendingARunningCrcEqualsOnePass) {
   }
 }
 
-transport::StateFrame sample_state(std::int64_t tick, std::size_t bodies) {
-  transport::StateFrame f;
+rigid::StateFrame sample_state(std::int64_t tick, std::size_t bodies) {
+  rigid::StateFrame f;
   f.resize(bodies);
   f.tick = tick;
   f.sim_time = static_cast<double>(tick) * 1e-3;
@@ -108,7 +108,7 @@ TEST(RecordFile, RecordsComeBackExactlyAsWritten) {
   EXPECT_EQ(r.header().software_version(), records::software_version());
   for (int i = 0; i < 20; ++i) {
     ASSERT_TRUE(reader.next(r)) << i;
-    transport::StateFrame f;
+    rigid::StateFrame f;
     ASSERT_TRUE(records::from_record(r.state(), f));
     EXPECT_EQ(f, sample_state(i, 3));
     EXPECT_EQ(r.state().recorded_ns(), i * 1000);
@@ -120,10 +120,10 @@ TEST(RecordFile, RecordsComeBackExactlyAsWritten) {
 
 TEST(RecordFile, StatsRecordsKeepEveryField) {
   // A distinct value in every field, so that a field dropped or swapped on the way shows.
-  transport::StatsReport s;
+  rigid::StatsReport s;
   s.tick = 1;
   s.sim_time = 2.5;
-  s.mode = transport::Mode::kLockstep;
+  s.mode = rigid::Mode::kLockstep;
   s.paused = true;
   s.rtf_last_second = 3.5;
   s.rtf_since_start = 4.5;
@@ -145,7 +145,7 @@ TEST(RecordFile, StatsRecordsKeepEveryField) {
   msgs::StatsRecord parsed;
   ASSERT_TRUE(parsed.ParseFromString(record.SerializeAsString()));
   EXPECT_EQ(parsed.recorded_ns(), 30);
-  transport::StatsReport back;
+  rigid::StatsReport back;
   records::from_record(parsed, back);
   EXPECT_EQ(back, s);
 }
@@ -238,22 +238,22 @@ TEST(RecordFile, NotALogFileIsRefusedWithOneLine) {
 }
 
 TEST(StateHash, EqualStatesHashEquallyAndAnyChangedValueChangesIt) {
-  const transport::StateFrame a = sample_state(7, 4);
+  const rigid::StateFrame a = sample_state(7, 4);
   EXPECT_EQ(state_hash(a), state_hash(sample_state(7, 4)));
   EXPECT_NE(state_hash(a), state_hash(sample_state(8, 4)));
   const std::uint64_t h = state_hash(a);
-  for (std::vector<double> transport::StateFrame::*field :
-       {&transport::StateFrame::position, &transport::StateFrame::orientation,
-        &transport::StateFrame::linear_velocity, &transport::StateFrame::angular_velocity}) {
+  for (std::vector<double> rigid::StateFrame::*field :
+       {&rigid::StateFrame::position, &rigid::StateFrame::orientation,
+        &rigid::StateFrame::linear_velocity, &rigid::StateFrame::angular_velocity}) {
     for (std::size_t i = 0; i < (a.*field).size(); ++i) {
-      transport::StateFrame b = a;
+      rigid::StateFrame b = a;
       // The smallest change there is: one ulp.
       (b.*field)[i] = std::nextafter((b.*field)[i], 1e300);
       EXPECT_NE(state_hash(b), h) << i;
     }
   }
   // -0 and +0 are different bits, and a replay that differs there is not bit-identical.
-  transport::StateFrame z = a;
+  rigid::StateFrame z = a;
   z.orientation[1] = -0.0;
   EXPECT_NE(state_hash(z), h);
 }

@@ -26,7 +26,7 @@ const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
 
 // The angular momentum about the centre of mass in W of body `i`, I_B from the SceneInfo: what a
 // torque changes and nothing else does (w alone changes by itself for a free asymmetric body).
-physics::Vec3 momentum_W(const transport::StateFrame& s, const transport::SceneDescription& scene,
+physics::Vec3 momentum_W(const rigid::StateFrame& s, const rigid::SceneDescription& scene,
                          std::size_t i) {
   const double* I = &scene.inertia[6 * i];
   physics::Mat3 I_B;
@@ -48,7 +48,7 @@ TEST_P(ClientFault, AControllerKilledMidThrustStopsActingWhenItsWrenchesExpire) 
   ASSERT_TRUE(rig.monitor->wait([&] { return !rig.monitor->states_locked().empty(); }, 10s))
       << rig.daemon->stderr_text();
   ASSERT_TRUE(poll_until([&] { return rig.monitor->scene().has_value(); }, 3s));
-  const transport::SceneDescription scene = *rig.monitor->scene();
+  const rigid::SceneDescription scene = *rig.monitor->scene();
   const physics::Vec3 L0 = momentum_W(rig.monitor->last_state()->state, scene, 0);
   EXPECT_EQ(L0.norm(), 0.0);  // at rest until the controller acts
 
@@ -118,7 +118,7 @@ TEST_P(ClientFault, AStoppedSubscriberDoesNotSlowTheLoopOrOtherSubscribers) {
   const std::int64_t from_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(t0.time_since_epoch()).count();
   int pushes = 0;
-  transport::WrenchCommand w;
+  rigid::WrenchCommand w;
   w.body_id = 2;  // the ball: 1 N up for one tick
   w.force = {0, 0, 1};
   while (std::chrono::steady_clock::now() < t0 + 4s) {
@@ -161,7 +161,7 @@ TEST_P(ClientFault, AStoppedSubscriberDoesNotSlowTheLoopOrOtherSubscribers) {
   const auto settled = rig.stats_after(during->tick, 3s);
   ASSERT_TRUE(settled);
   EXPECT_EQ(settled->commands_accepted - before->commands_accepted, pushes);
-  EXPECT_EQ(settled->rejected, transport::RejectCounts{});
+  EXPECT_EQ(settled->rejected, rigid::RejectCounts{});
 
   // The recorder, continued, takes up where it stopped and closes cleanly on SIGINT.
   ASSERT_TRUE(poll_until([&] { return size() > size_stopped + 10'000; }, 10s))

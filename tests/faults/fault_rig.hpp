@@ -19,10 +19,10 @@
 namespace rigid::faults::testing {
 
 using namespace std::chrono_literals;
+using rigid::Bus;
 using rigidd::testing::BusClient;
 using rigidd::testing::Completed;
 using rigidd::testing::RigiddProcess;
-using transport::Bus;
 
 inline std::string bus_name(Bus b) {
   return b == Bus::kDds ? "dds" : "lcm";
@@ -72,15 +72,15 @@ class Rig {
   // Until the current rigidd answers a harmless request (set_rtf 1): from then on commands from
   // the monitor reach it.
   bool handshake() {
-    transport::ControlCommand c;
-    c.command = transport::ControlKind::kSetRtf;
+    rigid::ControlCommand c;
+    c.command = rigid::ControlKind::kSetRtf;
     c.rtf = 1.0;
     return monitor->handshake(c, 10s).has_value();
   }
   // The first Stats published after tick `after`, within `patience`.
-  std::optional<transport::StatsReport> stats_after(std::int64_t after,
-                                                    std::chrono::milliseconds patience = 3s) {
-    std::optional<transport::StatsReport> s;
+  std::optional<rigid::StatsReport> stats_after(std::int64_t after,
+                                                std::chrono::milliseconds patience = 3s) {
+    std::optional<rigid::StatsReport> s;
     monitor->wait(
         [&] {
           if (monitor->stats_locked() && monitor->stats_locked()->tick > after) {

@@ -18,13 +18,13 @@ const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
 
 // Every command received (decoded) is accepted or refused for one reason (undecodable payloads
 // are counted apart: they were never received as commands).
-std::int64_t accounted(const transport::StatsReport& s) {
-  const transport::RejectCounts& r = s.rejected;
+std::int64_t accounted(const rigid::StatsReport& s) {
+  const rigid::RejectCounts& r = s.rejected;
   return s.commands_accepted + r.non_finite + r.unknown_body + r.over_limit + r.stale_sequence +
          r.queue_full + r.invalid + r.over_share + r.rate_limited + r.not_permitted;
 }
 
-std::int64_t received(const transport::StatsReport& s, Bus bus) {
+std::int64_t received(const rigid::StatsReport& s, Bus bus) {
   return bus == Bus::kDds ? s.dds.received : s.lcm.received;
 }
 
@@ -35,8 +35,8 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   Rig rig(bus, kDefault);
   ASSERT_TRUE(rig.handshake()) << rig.daemon->stderr_text();
   BusClient flooder(bus, rig.prefix());
-  transport::ControlCommand harmless;
-  harmless.command = transport::ControlKind::kSetRtf;
+  rigid::ControlCommand harmless;
+  harmless.command = rigid::ControlKind::kSetRtf;
   harmless.rtf = 1.0;
   ASSERT_TRUE(flooder.handshake(harmless, 10s));
   const auto before = rig.stats_after(rig.monitor->last_state()->state.tick);
@@ -46,7 +46,7 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + 2s;
   std::thread flood([&] {
-    transport::WrenchCommand w;
+    rigid::WrenchCommand w;
     std::int64_t n = 0;
     for (auto now = t0; now < end; now = std::chrono::steady_clock::now()) {
       const auto due = std::chrono::duration_cast<std::chrono::microseconds>(now - t0).count() / 10;
@@ -64,19 +64,19 @@ TEST_P(Flood, EveryCommandReceivedIsAccountedForAndRigiddStaysResponsive) {
   // share of every datagram (the control's included), so, as a controller on a lossy bus would,
   // the test asks again; every attempt falls within the flood.
   std::this_thread::sleep_until(t0 + 500ms);
-  std::optional<transport::ControlReply> reply;
+  std::optional<rigid::ControlReply> reply;
   for (int attempt = 0; attempt < 4 && !reply; ++attempt)
     reply = rig.monitor->request(harmless, 300ms);
   flood.join();
   ASSERT_TRUE(reply) << "no answer to 4 controls during the flood";
   // Answered either way: carried out, or dropped with the queue full (and counted).
-  EXPECT_TRUE(reply->outcome == transport::Outcome::kOk ||
+  EXPECT_TRUE(reply->outcome == rigid::Outcome::kOk ||
               reply->message == "dropped: the command queue is full" ||
               reply->message.starts_with("refused: this sender is above its share"))
       << reply->message;
 
   // Once rigidd has taken in what was on its way, the counts settle and add up.
-  std::optional<transport::StatsReport> after = rig.stats_after(before->tick);
+  std::optional<rigid::StatsReport> after = rig.stats_after(before->tick);
   ASSERT_TRUE(after);
   for (int i = 0; i < 6; ++i) {
     const auto next = rig.stats_after(after->tick);

@@ -23,7 +23,7 @@ class PhysicsFault : public ::testing::TestWithParam<Bus> {};
 TEST_P(PhysicsFault, ADivergingBodyIsFrozenLoggedOnceAndCountedWhileTheRestGoesOn) {
   Rig rig(GetParam(), kDiverging);
   ASSERT_TRUE(rig.handshake()) << rig.daemon->stderr_text();
-  transport::WrenchCommand w;
+  rigid::WrenchCommand w;
   w.body_id = kSled;  // 1 N for one tick: RK4 then multiplies its velocity by -13.7 a tick
   w.force = {1, 0, 0};
   rig.monitor->send(w);
@@ -71,7 +71,7 @@ TEST_P(PhysicsFault, ADivergingBodyIsFrozenLoggedOnceAndCountedWhileTheRestGoesO
   std::int64_t onset = -1;
   int checked = 0;
   for (const auto& t : states) {
-    const transport::StateFrame& s = t.state;
+    const rigid::StateFrame& s = t.state;
     if (onset < 0 && s.linear_velocity[3 * kPuck] > 0)
       onset = s.tick + 1 - std::llround(s.linear_velocity[3 * kPuck] / 0.002);
     if (onset < 0 || s.tick < frozen_tick) continue;

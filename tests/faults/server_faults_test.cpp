@@ -53,7 +53,7 @@ TEST_P(ServerFault, SigtermWhileRecordingAndJournalingLeavesBothFilesCompleteAnd
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   int pushes = 0;
   for (; pushes < 100; ++pushes) {
-    transport::WrenchCommand w;
+    rigid::WrenchCommand w;
     w.body_id = static_cast<std::int32_t>(random() % 5);
     w.force = {10 * unit(random), 10 * unit(random), 10 * unit(random)};
     w.point = {0.1 * unit(random), 0, 0.1 * unit(random)};
@@ -132,7 +132,7 @@ std::vector<Row> csv_rows(const std::string& text) {
 }
 
 // The craft's angle from the identity (the controller's target) in a state, in degrees.
-double error_deg(const transport::StateFrame& f, std::size_t craft) {
+double error_deg(const rigid::StateFrame& f, std::size_t craft) {
   const double w = std::abs(f.orientation[4 * craft]);
   return 2.0 * std::acos(std::min(1.0, w)) * 180.0 / M_PI;
 }
@@ -167,7 +167,7 @@ void clients_resume_after_restart(Bus bus, const std::string& second_scene,
 
   // The new rigidd's craft, seen by the monitor: starts 90 degrees off and is brought back.
   const auto new_states = [&] {
-    std::vector<transport::StateFrame> s;
+    std::vector<rigid::StateFrame> s;
     const auto all = rig.monitor->states();
     for (std::size_t i = states_before; i < all.size(); ++i)
       s.push_back(all[i].state);

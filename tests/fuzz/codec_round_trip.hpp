@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "fuzz_require.hpp"
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::fuzz {
 
@@ -26,13 +26,13 @@ bool has_embedded_nul(const Plain& /*message*/) {
 inline bool nul_in(const std::string& s) {
   return s.find('\0') != std::string::npos;
 }
-inline bool has_embedded_nul(const transport::WrenchCommand& m) {
+inline bool has_embedded_nul(const rigid::WrenchCommand& m) {
   return nul_in(m.body_name);
 }
-inline bool has_embedded_nul(const transport::ControlReply& m) {
+inline bool has_embedded_nul(const rigid::ControlReply& m) {
   return nul_in(m.message);
 }
-inline bool has_embedded_nul(const transport::SceneDescription& m) {
+inline bool has_embedded_nul(const rigid::SceneDescription& m) {
   return nul_in(m.scene_name) || nul_in(m.integrator) ||
          std::any_of(m.names.begin(), m.names.end(), nul_in);
 }

@@ -11,8 +11,8 @@
 
 #include "fuzz_require.hpp"
 #include "loop/command_validation.hpp"
+#include "rigid/messages.hpp"
 #include "scene/scene.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::fuzz {
 
@@ -25,7 +25,7 @@ class CommandContract {
   static std::vector<std::string> body_names() { return {"tumbler", "top", "ball", "box.1"}; }
   static scene::Limits limits() { return scene::Limits{100.0, 50.0, 5.0}; }
 
-  void check(const transport::WrenchCommand& w) const {
+  void check(const rigid::WrenchCommand& w) const {
     const loop::Checked<loop::Wrench> c = validator_.check(w);
     if (!c.ok) {
       require(!c.detail.empty() && one_printable_line(c.detail), "a refusal says why on one line");
@@ -52,8 +52,8 @@ class CommandContract {
             "an accepted wrench reaches the loop unchanged");
   }
 
-  void check(const transport::ControlCommand& m) const {
-    using K = transport::ControlKind;
+  void check(const rigid::ControlCommand& m) const {
+    using K = rigid::ControlKind;
     loop::ReplyNote note = loop::ReplyNote::kNone;
     const loop::Checked<loop::Control> c = validator_.check(m, &note);
     if (!c.ok) {
@@ -79,7 +79,7 @@ class CommandContract {
   }
 
  private:
-  using Vec3 = transport::Vec3;
+  using Vec3 = rigid::Vec3;
   static bool finite(const Vec3& v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
   }
@@ -87,8 +87,8 @@ class CommandContract {
   static Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   }
-  static bool known(transport::Frame f) {
-    return f == transport::Frame::kWorld || f == transport::Frame::kBody;
+  static bool known(rigid::Frame f) {
+    return f == rigid::Frame::kWorld || f == rigid::Frame::kBody;
   }
   // Refusals go to rigidd's log, one event per line.
   static bool one_printable_line(const std::string& s) {

@@ -57,7 +57,7 @@ double pick_double(FuzzedDataProvider& in) {
   }
 }
 
-transport::Vec3 pick_vec3(FuzzedDataProvider& in) {
+rigid::Vec3 pick_vec3(FuzzedDataProvider& in) {
   return {pick_double(in), pick_double(in), pick_double(in)};
 }
 
@@ -68,9 +68,9 @@ Enum pick_enum(FuzzedDataProvider& in, std::int32_t last_known) {
                                             : in.ConsumeIntegral<std::int32_t>());
 }
 
-transport::WrenchCommand make_wrench(FuzzedDataProvider& in) {
+rigid::WrenchCommand make_wrench(FuzzedDataProvider& in) {
   static const std::vector<std::string> kNames = fuzz::CommandContract::body_names();
-  transport::WrenchCommand w;
+  rigid::WrenchCommand w;
   w.source = in.ConsumeIntegral<std::int64_t>();
   w.seq = in.ConsumeIntegral<std::int64_t>();
   w.key = in.ConsumeIntegral<std::int32_t>();
@@ -89,15 +89,15 @@ transport::WrenchCommand make_wrench(FuzzedDataProvider& in) {
   }
   w.force = pick_vec3(in);
   w.point = pick_vec3(in);
-  w.force_frame = pick_enum<transport::Frame>(in, 1);
+  w.force_frame = pick_enum<rigid::Frame>(in, 1);
   w.torque = pick_vec3(in);
-  w.torque_frame = pick_enum<transport::Frame>(in, 1);
+  w.torque_frame = pick_enum<rigid::Frame>(in, 1);
   w.ttl = pick_double(in);
   w.stamp_ns = in.ConsumeIntegral<std::int64_t>();
   return w;
 }
 
-transport::ControlCommand make_control(FuzzedDataProvider& in) {
+rigid::ControlCommand make_control(FuzzedDataProvider& in) {
   constexpr std::int64_t kMax = loop::CommandValidator::kMaxSteps;
   const std::int64_t kSteps[] = {0,
                                  1,
@@ -107,10 +107,10 @@ transport::ControlCommand make_control(FuzzedDataProvider& in) {
                                  -1,
                                  std::numeric_limits<std::int64_t>::min(),
                                  std::numeric_limits<std::int64_t>::max()};
-  transport::ControlCommand c;
+  rigid::ControlCommand c;
   c.source = in.ConsumeIntegral<std::int64_t>();
   c.seq = in.ConsumeIntegral<std::int64_t>();
-  c.command = pick_enum<transport::ControlKind>(in, 6);
+  c.command = pick_enum<rigid::ControlKind>(in, 6);
   c.steps = in.ConsumeBool() ? in.PickValueInArray(kSteps) : in.ConsumeIntegral<std::int64_t>();
   c.rtf = pick_double(in);
   return c;

@@ -28,21 +28,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static Fixture f;
   const std::span<const std::uint8_t> bytes(data, size);
 
-  transport::WrenchCommand wrench;
+  rigid::WrenchCommand wrench;
   if (fuzz::decode_checked(f.codec, bytes, wrench)) f.contract.check(wrench);
-  transport::ControlCommand control;
+  rigid::ControlCommand control;
   if (fuzz::decode_checked(f.codec, bytes, control)) f.contract.check(control);
 
   // The types clients receive (rigidctl, rigid-record, controllers).
-  transport::StateFrame state;
+  rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);
-  transport::ControlReply reply;
+  rigid::ControlReply reply;
   fuzz::decode_checked(f.codec, bytes, reply);
-  transport::StatsReport stats;
+  rigid::StatsReport stats;
   fuzz::decode_checked(f.codec, bytes, stats);
-  transport::SceneDescription scene;
+  rigid::SceneDescription scene;
   fuzz::decode_checked(f.codec, bytes, scene);
-  transport::AcceptedCommand accepted;
+  rigid::AcceptedCommand accepted;
   fuzz::decode_checked(f.codec, bytes, accepted);
   return 0;
 }

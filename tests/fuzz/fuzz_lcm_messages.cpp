@@ -30,10 +30,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static Fixture f;
   const std::span<const std::uint8_t> bytes(data, size);
 
-  transport::WrenchCommand wrench;
+  rigid::WrenchCommand wrench;
   if (fuzz::decode_checked(f.codec, bytes, wrench)) f.contract.check(wrench);
 
-  transport::ControlCommand control;
+  rigid::ControlCommand control;
   const bool control_decoded = fuzz::decode_checked(f.codec, bytes, control);
   if (control_decoded) f.contract.check(control);
   if (size <= INT_MAX) {
@@ -44,15 +44,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
 
   // The types clients receive (rigidctl, rigid-record, controllers).
-  transport::StateFrame state;
+  rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);
-  transport::ControlReply reply;
+  rigid::ControlReply reply;
   fuzz::decode_checked(f.codec, bytes, reply);
-  transport::StatsReport stats;
+  rigid::StatsReport stats;
   fuzz::decode_checked(f.codec, bytes, stats);
-  transport::SceneDescription scene;
+  rigid::SceneDescription scene;
   fuzz::decode_checked(f.codec, bytes, scene);
-  transport::AcceptedCommand accepted;
+  rigid::AcceptedCommand accepted;
   fuzz::decode_checked(f.codec, bytes, accepted);
   return 0;
 }

@@ -46,19 +46,19 @@ void check_conversion(const Record& in) {
 inline void check_record(const msgs::LogRecord& record) {
   switch (record.record_case()) {
     case msgs::LogRecord::kHeader:
-      check_conversion<transport::SceneDescription>(record.header().scene());
+      check_conversion<rigid::SceneDescription>(record.header().scene());
       break;
     case msgs::LogRecord::kState:
-      check_conversion<transport::StateFrame>(record.state());
+      check_conversion<rigid::StateFrame>(record.state());
       break;
     case msgs::LogRecord::kScene:
-      check_conversion<transport::SceneDescription>(record.scene());
+      check_conversion<rigid::SceneDescription>(record.scene());
       break;
     case msgs::LogRecord::kStats:
-      check_conversion<transport::StatsReport>(record.stats());
+      check_conversion<rigid::StatsReport>(record.stats());
       break;
     case msgs::LogRecord::kCommand:
-      check_conversion<transport::AcceptedCommand>(record.command());
+      check_conversion<rigid::AcceptedCommand>(record.command());
       break;
     case msgs::LogRecord::kStateHash:
     case msgs::LogRecord::kGap:

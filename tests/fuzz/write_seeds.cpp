@@ -37,31 +37,31 @@ void write(const fs::path& path, std::span<const std::uint8_t> bytes) {
   write(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
-transport::WrenchCommand wrench_by_id() {
-  transport::WrenchCommand w;
+rigid::WrenchCommand wrench_by_id() {
+  rigid::WrenchCommand w;
   w.source = 42;
   w.seq = 7;
   w.key = 1;
   w.body_id = 2;
   w.force = {10.0, 0.0, -1.5};
   w.point = {0.0, 0.1, 0.0};
-  w.force_frame = transport::Frame::kBody;
+  w.force_frame = rigid::Frame::kBody;
   w.torque = {0.0, 0.0, 0.25};
   w.ttl = 0.5;
   w.stamp_ns = 1'700'000'000'000'000'000;
   return w;
 }
 
-transport::WrenchCommand wrench_by_name() {
-  transport::WrenchCommand w = wrench_by_id();
+rigid::WrenchCommand wrench_by_name() {
+  rigid::WrenchCommand w = wrench_by_id();
   w.body_id = -1;
   w.body_name = "top";
-  w.torque_frame = transport::Frame::kBody;
+  w.torque_frame = rigid::Frame::kBody;
   return w;
 }
 
-transport::ControlCommand control(transport::ControlKind kind, std::int64_t steps, double rtf) {
-  transport::ControlCommand c;
+rigid::ControlCommand control(rigid::ControlKind kind, std::int64_t steps, double rtf) {
+  rigid::ControlCommand c;
   c.source = 42;
   c.seq = 8;
   c.command = kind;
@@ -70,8 +70,8 @@ transport::ControlCommand control(transport::ControlKind kind, std::int64_t step
   return c;
 }
 
-transport::StateFrame state() {
-  transport::StateFrame s;
+rigid::StateFrame state() {
+  rigid::StateFrame s;
   s.tick = 1000;
   s.sim_time = 1.0;
   s.stamp_ns = 1'700'000'000'000'000'000;
@@ -84,22 +84,22 @@ transport::StateFrame state() {
   return s;
 }
 
-transport::ControlReply reply() {
-  transport::ControlReply r;
+rigid::ControlReply reply() {
+  rigid::ControlReply r;
   r.source = 42;
   r.seq = 8;
-  r.command = transport::ControlKind::kStep;
-  r.outcome = transport::Outcome::kNotAllowed;
+  r.command = rigid::ControlKind::kStep;
+  r.outcome = rigid::Outcome::kNotAllowed;
   r.tick = 1000;
   r.message = "step needs the loop paused";
   return r;
 }
 
-transport::StatsReport stats() {
-  transport::StatsReport s;
+rigid::StatsReport stats() {
+  rigid::StatsReport s;
   s.tick = 5000;
   s.sim_time = 5.0;
-  s.mode = transport::Mode::kRealtime;
+  s.mode = rigid::Mode::kRealtime;
   s.paused = true;
   s.rtf_last_second = 1.0;
   s.rtf_since_start = 0.999;
@@ -114,8 +114,8 @@ transport::StatsReport stats() {
   return s;
 }
 
-transport::SceneDescription scene() {
-  transport::SceneDescription d;
+rigid::SceneDescription scene() {
+  rigid::SceneDescription d;
   d.scene_name = "default";
   d.dt = 0.001;
   d.substeps = 1;
@@ -128,16 +128,16 @@ transport::SceneDescription scene() {
   d.names = {"tumbler", "ball"};
   d.masses = {5.0, 4.19};
   d.inertia = {0.09, 0.07, 0.03, 0.0, 0.0, 0.0, 0.017, 0.017, 0.017, 0.0, 0.0, 0.0};
-  d.shape_kinds = {transport::ShapeKind::kBox, transport::ShapeKind::kSphere};
+  d.shape_kinds = {rigid::ShapeKind::kBox, rigid::ShapeKind::kSphere};
   d.shape_dims = {0.1, 0.25, 0.4, 0.1, 0.0, 0.0};
   return d;
 }
 
-transport::AcceptedCommand accepted_wrench() {
-  const transport::WrenchCommand w = wrench_by_id();
-  transport::AcceptedCommand a;
+rigid::AcceptedCommand accepted_wrench() {
+  const rigid::WrenchCommand w = wrench_by_id();
+  rigid::AcceptedCommand a;
   a.tick = 1001;
-  a.kind = transport::AcceptedKind::kWrench;
+  a.kind = rigid::AcceptedKind::kWrench;
   a.source = w.source;
   a.seq = w.seq;
   a.key = w.key;
@@ -151,13 +151,13 @@ transport::AcceptedCommand accepted_wrench() {
   return a;
 }
 
-transport::AcceptedCommand accepted_control() {
-  transport::AcceptedCommand a;
+rigid::AcceptedCommand accepted_control() {
+  rigid::AcceptedCommand a;
   a.tick = 2000;
-  a.kind = transport::AcceptedKind::kControl;
+  a.kind = rigid::AcceptedKind::kControl;
   a.source = 42;
   a.seq = 9;
-  a.command = transport::ControlKind::kSetRtf;
+  a.command = rigid::ControlKind::kSetRtf;
   a.rtf = 2.0;
   return a;
 }
@@ -166,7 +166,7 @@ transport::AcceptedCommand accepted_control() {
 template <class Codec>
 void write_messages(const fs::path& dir) {
   Codec codec;
-  using K = transport::ControlKind;
+  using K = rigid::ControlKind;
   write(dir / "wrench_by_id", codec.encode(wrench_by_id()));
   write(dir / "wrench_by_name", codec.encode(wrench_by_name()));
   write(dir / "control_pause", codec.encode(control(K::kPause, 0, 0.0)));

@@ -10,9 +10,9 @@
 namespace rigid::loop {
 namespace {
 
-using transport::ControlCommand;
-using transport::ControlKind;
-using transport::WrenchCommand;
+using rigid::ControlCommand;
+using rigid::ControlKind;
+using rigid::WrenchCommand;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -34,7 +34,7 @@ class Validation : public ::testing::Test {
     w.body_id = 1;
     w.force = {3, 4, 0};
     w.point = {0.1, 0, 0};
-    w.force_frame = transport::Frame::kBody;
+    w.force_frame = rigid::Frame::kBody;
     w.torque = {0, 0, 1};
     w.ttl = 0.5;
     return w;
@@ -55,7 +55,7 @@ TEST_F(Validation, AGoodWrenchPassesWithItsFields) {
   EXPECT_EQ(c.value.body, 1);
   EXPECT_EQ(c.value.source, 7);
   EXPECT_EQ(c.value.force, (Vec3{3, 4, 0}));
-  EXPECT_EQ(c.value.force_frame, transport::Frame::kBody);
+  EXPECT_EQ(c.value.force_frame, rigid::Frame::kBody);
   EXPECT_EQ(c.value.ttl, 0.5);
 }
 
@@ -117,10 +117,10 @@ TEST_F(Validation, OverLimits) {
 
 TEST_F(Validation, InvalidFields) {
   WrenchCommand w = good();
-  w.force_frame = static_cast<transport::Frame>(2);
+  w.force_frame = static_cast<rigid::Frame>(2);
   EXPECT_EQ(reason(w), RejectReason::kInvalid);
   w = good();
-  w.torque_frame = static_cast<transport::Frame>(-1);
+  w.torque_frame = static_cast<rigid::Frame>(-1);
   EXPECT_EQ(reason(w), RejectReason::kInvalid);
   w = good();
   w.ttl = -0.1;

@@ -100,8 +100,7 @@ TEST(TickStats, WindowsReportTheirOwnFiguresAndTotalsEverything) {
   s.add_overruns(2);
   EXPECT_FALSE(s.window_due(999'999'999));
   EXPECT_TRUE(s.window_due(1'000'000'000));
-  const LoopSummary w1 =
-      s.close_window(1'000'000'000, 1000, 1.0, transport::Mode::kRealtime, false);
+  const LoopSummary w1 = s.close_window(1'000'000'000, 1000, 1.0, rigid::Mode::kRealtime, false);
   EXPECT_NEAR(w1.rtf_last_second, 1.0, 1e-12);
   EXPECT_NEAR(w1.lateness_p99_us, 10.0, 10.0 / 64);
   EXPECT_NEAR(w1.step_cost_p50_us, 50.0, 50.0 / 64);
@@ -111,8 +110,7 @@ TEST(TickStats, WindowsReportTheirOwnFiguresAndTotalsEverything) {
     s.count_tick();
     s.record_lateness(90'000);
   }
-  const LoopSummary w2 =
-      s.close_window(2'000'000'000, 1500, 1.5, transport::Mode::kRealtime, false);
+  const LoopSummary w2 = s.close_window(2'000'000'000, 1500, 1.5, rigid::Mode::kRealtime, false);
   EXPECT_NEAR(w2.rtf_last_second, 0.5, 1e-12);
   EXPECT_NEAR(w2.rtf_since_start, 0.75, 1e-12);
   EXPECT_NEAR(w2.lateness_p50_us, 90.0, 90.0 / 64);

@@ -26,7 +26,7 @@ class IntakeTest : public ::testing::Test {
       : bodies_({"a", "b"}),
         validator_(bodies_, scene::Limits{}),
         queue_(4),
-        intake_(transport::Bus::kLcm, validator_, IntakePolicy{}, queue_, doorbell_, rejects_,
+        intake_(rigid::Bus::kLcm, validator_, IntakePolicy{}, queue_, doorbell_, rejects_,
                 replies_) {}
 
   static transport::Origin session(std::uint64_t s) {
@@ -35,8 +35,8 @@ class IntakeTest : public ::testing::Test {
     return o;
   }
 
-  static transport::WrenchCommand wrench(std::int64_t seq) {
-    transport::WrenchCommand w;
+  static rigid::WrenchCommand wrench(std::int64_t seq) {
+    rigid::WrenchCommand w;
     w.source = 1;
     w.seq = seq;
     w.body_id = 0;
@@ -56,25 +56,25 @@ class IntakeTest : public ::testing::Test {
 TEST_F(IntakeTest, ValidCommandsAreQueuedWithTheirBusAndRingTheDoorbell) {
   const std::uint32_t before = doorbell_.count();
   intake_.on_wrench(wrench(1), session(7));
-  transport::ControlCommand c;
+  rigid::ControlCommand c;
   c.source = 2;
   c.seq = 1;
-  c.command = transport::ControlKind::kPause;
+  c.command = rigid::ControlKind::kPause;
   intake_.on_control(c, session(7));
   EXPECT_EQ(doorbell_.count(), before + 2);
   Command out;
   ASSERT_TRUE(queue_.try_pop(out));
   EXPECT_EQ(out.kind, Command::Kind::kWrench);
-  EXPECT_EQ(out.bus, transport::Bus::kLcm);
+  EXPECT_EQ(out.bus, rigid::Bus::kLcm);
   EXPECT_EQ(out.wrench.seq, 1);
   ASSERT_TRUE(queue_.try_pop(out));
   EXPECT_EQ(out.kind, Command::Kind::kControl);
-  EXPECT_EQ(out.control.kind, transport::ControlKind::kPause);
+  EXPECT_EQ(out.control.kind, rigid::ControlKind::kPause);
   EXPECT_EQ(rejects_.total(), 0);
 }
 
 TEST_F(IntakeTest, RefusalsAreCountedByReasonAndTheFirstOfEachIsLogged) {
-  transport::WrenchCommand w = wrench(1);
+  rigid::WrenchCommand w = wrench(1);
   w.force[0] = std::numeric_limits<double>::quiet_NaN();
   intake_.on_wrench(w, session(7));
   intake_.on_wrench(w, session(7));
@@ -85,8 +85,8 @@ TEST_F(IntakeTest, RefusalsAreCountedByReasonAndTheFirstOfEachIsLogged) {
   w.force = {2e6, 0, 0};
   intake_.on_wrench(w, session(7));
   intake_.on_decode_error(
-      {transport::Bus::kLcm, transport::Topic::kWrench, transport::DecodeStatus::kTruncated, 5});
-  const transport::RejectCounts c = rejects_.counts();
+      {rigid::Bus::kLcm, transport::Topic::kWrench, transport::DecodeStatus::kTruncated, 5});
+  const rigid::RejectCounts c = rejects_.counts();
   EXPECT_EQ(c.non_finite, 2);
   EXPECT_EQ(c.unknown_body, 1);
   EXPECT_EQ(c.over_limit, 1);
@@ -112,7 +112,7 @@ TEST_F(IntakeTest, RefusalsAreCountedByReasonAndTheFirstOfEachIsLogged) {
   rejects_.flush(log, 500'000'000);
   EXPECT_EQ(log.lines().size(), 5u);  // logged once
   // Counted by sender, too (the undecodable payload has none).
-  const std::vector<transport::SourceRefusals> top = rejects_.top_senders();
+  const std::vector<rigid::SourceRefusals> top = rejects_.top_senders();
   ASSERT_EQ(top.size(), 1u);
   EXPECT_EQ(top[0].sender, "lcm:0.0.0.0:7");
   EXPECT_EQ(top[0].count, 4);
@@ -125,37 +125,37 @@ TEST_F(IntakeTest, AFloodFillsTheQueueAndDropsAreCounted) {
   EXPECT_EQ(rejects_.counts().queue_full, 10 - 4);
   // Each dropped wrench is answered, at most RejectCounters::kRepliesPerSecond a second.
   ASSERT_EQ(replies_.replies.size(), static_cast<std::size_t>(RejectCounters::kRepliesPerSecond));
-  EXPECT_EQ(replies_.replies[0].kind, transport::kReplyToWrench);
+  EXPECT_EQ(replies_.replies[0].kind, rigid::kReplyToWrench);
   EXPECT_EQ(replies_.replies[0].seq, 5);
   EXPECT_NE(reply_message(replies_.replies[0]).find("queue_full: command queue full (4)"),
             std::string::npos)
       << reply_message(replies_.replies[0]);
   replies_.replies.clear();
-  transport::ControlCommand c;
+  rigid::ControlCommand c;
   c.source = 2;
   c.seq = 1;
-  c.command = transport::ControlKind::kReset;
+  c.command = rigid::ControlKind::kReset;
   intake_.on_control(c, session(7));
   EXPECT_EQ(rejects_.counts().queue_full, 10 - 4 + 1);
   // A dropped control is still answered.
   ASSERT_EQ(replies_.replies.size(), 1u);
-  EXPECT_EQ(replies_.replies[0].outcome, transport::Outcome::kFailed);
+  EXPECT_EQ(replies_.replies[0].outcome, rigid::Outcome::kFailed);
   EXPECT_EQ(replies_.replies[0].note, ReplyNote::kQueueFull);
 }
 
 TEST_F(IntakeTest, ARefusedControlIsAnsweredOnItsBus) {
-  transport::ControlCommand c;
+  rigid::ControlCommand c;
   c.source = 5;
   c.seq = 77;
-  c.command = transport::ControlKind::kStep;
+  c.command = rigid::ControlKind::kStep;
   c.steps = -3;
   intake_.on_control(c, session(7));
   ASSERT_EQ(replies_.replies.size(), 1u);
   const Reply& r = replies_.replies[0];
-  EXPECT_EQ(r.bus, transport::Bus::kLcm);
+  EXPECT_EQ(r.bus, rigid::Bus::kLcm);
   EXPECT_EQ(r.seq, 77);
   EXPECT_EQ(r.source, 5);
-  EXPECT_EQ(r.outcome, transport::Outcome::kInvalid);
+  EXPECT_EQ(r.outcome, rigid::Outcome::kInvalid);
   EXPECT_EQ(reply_message(r), "steps must be >= 1 and <= 1000000000");
   EXPECT_EQ(rejects_.counts().invalid, 1);
 }
@@ -167,7 +167,7 @@ TEST_F(IntakeTest, ASenderAboveItsRateIsRefusedAndOthersAreNot) {
   IntakePolicy policy;
   policy.commands_per_second = limits.max_commands_per_second;
   BoundedQueue<Command> queue(1000);
-  Intake intake(transport::Bus::kDds, validator, policy, queue, doorbell_, rejects_, replies_);
+  Intake intake(rigid::Bus::kDds, validator, policy, queue, doorbell_, rejects_, replies_);
   for (int i = 1; i <= 80; ++i)
     intake.on_wrench(wrench(i), session(1));
   EXPECT_GE(rejects_.counts().rate_limited, 29);  // 80 - 50, less what the clock refilled
@@ -176,7 +176,7 @@ TEST_F(IntakeTest, ASenderAboveItsRateIsRefusedAndOthersAreNot) {
   for (int i = 1; i <= 50; ++i)
     intake.on_wrench(wrench(i), session(2));
   EXPECT_LE(rejects_.counts().rate_limited, 30);
-  const std::vector<transport::SourceRefusals> top = rejects_.top_senders();
+  const std::vector<rigid::SourceRefusals> top = rejects_.top_senders();
   ASSERT_EQ(top.size(), 1u);
   EXPECT_EQ(top[0].sender, "dds:0000000000000001");
   EXPECT_EQ(top[0].last_reason, "rate_limited");
@@ -185,17 +185,17 @@ TEST_F(IntakeTest, ASenderAboveItsRateIsRefusedAndOthersAreNot) {
 TEST_F(IntakeTest, ControlsOffAreRefusedAndAnswered) {
   IntakePolicy policy;
   policy.controls = false;
-  Intake intake(transport::Bus::kLcm, validator_, policy, queue_, doorbell_, rejects_, replies_);
-  transport::ControlCommand c;
+  Intake intake(rigid::Bus::kLcm, validator_, policy, queue_, doorbell_, rejects_, replies_);
+  rigid::ControlCommand c;
   c.source = 2;
   c.seq = 1;
-  c.command = transport::ControlKind::kPause;
+  c.command = rigid::ControlKind::kPause;
   intake.on_control(c, session(3));
   Command out;
   EXPECT_FALSE(queue_.try_pop(out));
   EXPECT_EQ(rejects_.counts().not_permitted, 1);
   ASSERT_EQ(replies_.replies.size(), 1u);
-  EXPECT_EQ(replies_.replies[0].outcome, transport::Outcome::kNotAllowed);
+  EXPECT_EQ(replies_.replies[0].outcome, rigid::Outcome::kNotAllowed);
   EXPECT_EQ(replies_.replies[0].note, ReplyNote::kNotPermitted);
   // Wrenches still pass.
   intake.on_wrench(wrench(1), session(3));
@@ -205,7 +205,7 @@ TEST_F(IntakeTest, ControlsOffAreRefusedAndAnswered) {
 TEST_F(IntakeTest, WithSecurityOnlyAnAuthenticatedWriterOfThatBodyPushesIt) {
   IntakePolicy policy;
   policy.secure = true;
-  Intake intake(transport::Bus::kDds, validator_, policy, queue_, doorbell_, rejects_, replies_);
+  Intake intake(rigid::Bus::kDds, validator_, policy, queue_, doorbell_, rejects_, replies_);
   transport::Origin plain = session(4);  // no identity: not from a push/IDENTITY/BODY writer
   intake.on_wrench(wrench(1), plain);
   transport::Origin alice = session(5);
@@ -216,7 +216,7 @@ TEST_F(IntakeTest, WithSecurityOnlyAnAuthenticatedWriterOfThatBodyPushesIt) {
   EXPECT_EQ(rejects_.counts().not_permitted, 2);
   Command out;
   EXPECT_FALSE(queue_.try_pop(out));
-  transport::WrenchCommand to_b = wrench(3);
+  rigid::WrenchCommand to_b = wrench(3);
   to_b.body_id = 1;
   intake.on_wrench(to_b, alice);
   ASSERT_TRUE(queue_.try_pop(out));
@@ -227,9 +227,8 @@ TEST_F(IntakeTest, WithSecurityOnlyAnAuthenticatedWriterOfThatBodyPushesIt) {
   alice2.session = 6;
   transport::Origin bob = alice;
   bob.identity = "bob";
-  EXPECT_EQ(sender_of(transport::Bus::kDds, alice).key,
-            sender_of(transport::Bus::kDds, alice2).key);
-  EXPECT_NE(sender_of(transport::Bus::kDds, alice).key, sender_of(transport::Bus::kDds, bob).key);
+  EXPECT_EQ(sender_of(rigid::Bus::kDds, alice).key, sender_of(rigid::Bus::kDds, alice2).key);
+  EXPECT_NE(sender_of(rigid::Bus::kDds, alice).key, sender_of(rigid::Bus::kDds, bob).key);
   EXPECT_NE(owner_of(alice), owner_of(bob));
 }
 

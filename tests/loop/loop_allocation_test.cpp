@@ -60,23 +60,23 @@ namespace rigid::loop {
 namespace {
 
 using namespace std::chrono_literals;
+using rigid::ControlKind;
+using rigid::Mode;
 using testing::Harness;
 using testing::make_scene;
-using transport::ControlKind;
-using transport::Mode;
 
 // A bus that accepts everything (the publisher thread may allocate; only the loop thread counts).
 class NullTransport final : public transport::Transport {
  public:
-  transport::Bus bus() const override { return transport::Bus::kDds; }
+  rigid::Bus bus() const override { return rigid::Bus::kDds; }
   transport::Role role() const override { return transport::Role::kServer; }
-  transport::PublishResult publish(const transport::StateFrame&) override { return ok(); }
-  transport::PublishResult publish(const transport::StatsReport&) override { return ok(); }
-  transport::PublishResult publish(const transport::SceneDescription&) override { return ok(); }
-  transport::PublishResult publish(const transport::ControlReply&) override { return ok(); }
-  transport::PublishResult publish(const transport::WrenchCommand&) override { return ok(); }
-  transport::PublishResult publish(const transport::ControlCommand&) override { return ok(); }
-  transport::TransportCounts counts() const override { return {}; }
+  transport::PublishResult publish(const rigid::StateFrame&) override { return ok(); }
+  transport::PublishResult publish(const rigid::StatsReport&) override { return ok(); }
+  transport::PublishResult publish(const rigid::SceneDescription&) override { return ok(); }
+  transport::PublishResult publish(const rigid::ControlReply&) override { return ok(); }
+  transport::PublishResult publish(const rigid::WrenchCommand&) override { return ok(); }
+  transport::PublishResult publish(const rigid::ControlCommand&) override { return ok(); }
+  rigid::TransportCounts counts() const override { return {}; }
 
  private:
   static transport::PublishResult ok() { return transport::PublishResult::kOk; }
@@ -91,7 +91,7 @@ class PublishingRecorder : public testing::Recorder {
     if (journal_ != nullptr) journal_->push(e);
   }
   void attach(Journal* j) { journal_ = j; }
-  void offer_state(const transport::StateFrame& f, std::int64_t arrival_ns) override {
+  void offer_state(const rigid::StateFrame& f, std::int64_t arrival_ns) override {
     a_.offer(f, arrival_ns);
     b_.offer(f, arrival_ns);
     Recorder::offer_state(f, arrival_ns);
@@ -140,7 +140,7 @@ Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std
   w.key = key;
   w.force = {1, 2, 3};
   w.point = {0.1, 0.2, 0.3};
-  w.force_frame = (seq % 2) ? transport::Frame::kBody : transport::Frame::kWorld;
+  w.force_frame = (seq % 2) ? rigid::Frame::kBody : rigid::Frame::kWorld;
   w.torque = {0.01 * static_cast<double>(seq % 3), 0, 0};
   w.ttl = ttl;
   return w;
@@ -162,8 +162,8 @@ struct Rig {
     c.hash_states = hash_states;
     return c;
   }
-  static transport::StateFrame shaped(const scene::Scene& s) {
-    transport::StateFrame f;
+  static rigid::StateFrame shaped(const scene::Scene& s) {
+    rigid::StateFrame f;
     f.resize(s.world.bodies.size());
     return f;
   }
@@ -179,7 +179,7 @@ struct Rig {
 
   NullTransport bus_a, bus_b;
   MemoryLog log;
-  transport::StateFrame shape;
+  rigid::StateFrame shape;
   Publisher a, b;
   PublishingRecorder out;
   BoundedQueue<Command> queue{256};
@@ -205,7 +205,7 @@ void expect_no_allocations(Mode mode, bool journaling = false, const char* scene
     msgs::LogHeader header;
     header.set_kind(msgs::LogHeader::JOURNAL);
     journal = std::make_unique<Journal>(Journal::Options{path}, header, rig.log,
-                                        [](const transport::AcceptedCommand&) {});
+                                        [](const rigid::AcceptedCommand&) {});
     rig.out.attach(journal.get());
     journal->start();
   }

@@ -23,7 +23,7 @@ class Recorder : public LoopOutput {
     ticks.reserve(1 << 20);
     replies.reserve(1 << 12);
   }
-  void offer_state(const transport::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
+  void offer_state(const rigid::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
     {
       const std::lock_guard lock(mutex);
       last = frame;  // same shape every time: reuses the vectors
@@ -42,7 +42,7 @@ class Recorder : public LoopOutput {
 
   std::mutex mutex;
   std::condition_variable changed;
-  transport::StateFrame last;
+  rigid::StateFrame last;
   std::vector<std::int64_t> ticks;
   std::vector<Reply> replies;
   std::int64_t states = 0;
@@ -54,14 +54,14 @@ inline scene::Scene make_scene(const std::string& text) {
 
 class Harness {
  public:
-  Harness(const scene::Scene& scene, transport::Mode mode, std::size_t queue = 256)
+  Harness(const scene::Scene& scene, rigid::Mode mode, std::size_t queue = 256)
       : queue_(queue), loop_(scene.world, config(scene, mode), queue_, doorbell_, rejects_, out) {
     // Give the recorder's frame its final shape before the loop runs.
     out.last.resize(static_cast<std::size_t>(scene.world.bodies.size()));
   }
   ~Harness() { stop(); }
 
-  static LoopConfig config(const scene::Scene& scene, transport::Mode mode) {
+  static LoopConfig config(const scene::Scene& scene, rigid::Mode mode) {
     LoopConfig c;
     c.mode = mode;
     c.tick_dt = 1.0 / scene.rate_hz;
@@ -84,8 +84,8 @@ class Harness {
     ASSERT_TRUE(queue_.try_push(c));
     doorbell_.ring();
   }
-  void control(transport::ControlKind kind, std::int64_t seq, std::int64_t steps = 0,
-               double rtf = 0.0, std::int64_t source = 100) {
+  void control(rigid::ControlKind kind, std::int64_t seq, std::int64_t steps = 0, double rtf = 0.0,
+               std::int64_t source = 100) {
     Command c;
     c.kind = Command::Kind::kControl;
     c.control = Control{source, seq, kind, steps, rtf};
@@ -108,7 +108,7 @@ class Harness {
   Reply reply_to(std::int64_t seq) {
     Reply found{};
     found.seq = -1;
-    found.outcome = transport::Outcome::kFailed;
+    found.outcome = rigid::Outcome::kFailed;
     wait([&] {
       for (const Reply& r : out.replies)
         if (r.seq == seq) {
@@ -119,7 +119,7 @@ class Harness {
     });
     return found;
   }
-  transport::StateFrame last_state() {
+  rigid::StateFrame last_state() {
     const std::lock_guard lock(out.mutex);
     return out.last;
   }

@@ -15,11 +15,11 @@ namespace rigid::loop {
 namespace {
 
 using namespace std::chrono_literals;
+using rigid::ControlKind;
+using rigid::Mode;
+using rigid::Outcome;
 using testing::Harness;
 using testing::make_scene;
-using transport::ControlKind;
-using transport::Mode;
-using transport::Outcome;
 
 // A point mass of 2 kg and a general body at rest, no gravity, 1 kHz, a state every 10 ticks.
 const char* kScene = R"(
@@ -130,9 +130,9 @@ TEST(Loop, BodyForceAtALeverArmMatchesTheWorldDirectly) {
   w.body = 1;
   w.force = {0, 0, 2};
   w.point = {0.5, 0, 0};
-  w.force_frame = transport::Frame::kBody;
+  w.force_frame = rigid::Frame::kBody;
   w.torque = {0.1, 0, 0};
-  w.torque_frame = transport::Frame::kWorld;
+  w.torque_frame = rigid::Frame::kWorld;
   w.ttl = 1.0;
   h.wrench(w);
   h.control(ControlKind::kStep, 1, 25);
@@ -146,7 +146,7 @@ TEST(Loop, BodyForceAtALeverArmMatchesTheWorldDirectly) {
     ref.step();
   }
   const physics::BodyState b = ref.state(1);
-  const transport::StateFrame f = h.last_state();
+  const rigid::StateFrame f = h.last_state();
   EXPECT_EQ(f.angular_velocity[3], b.w_WB.x());
   EXPECT_EQ(f.angular_velocity[4], b.w_WB.y());
   EXPECT_EQ(f.angular_velocity[5], b.w_WB.z());

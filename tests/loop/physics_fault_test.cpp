@@ -13,11 +13,11 @@ namespace rigid::loop {
 namespace {
 
 using namespace std::chrono_literals;
+using rigid::ControlKind;
+using rigid::Mode;
+using rigid::Outcome;
 using testing::Harness;
 using testing::make_scene;
-using transport::ControlKind;
-using transport::Mode;
-using transport::Outcome;
 
 // RK4 at 1 kHz. The sled's drag is stiff for RK4 (c dt / m = 5: x13.7 per step once it moves)
 // but harmless at rest; the puck is a witness; the ball spins past pi per tick under a torque.
@@ -73,7 +73,7 @@ TEST(LoopPhysicsFault, ADivergingBodyIsFrozenReportedOnceAndTheRestGoesOn) {
   h.control(ControlKind::kStep, ++seq, 300);
   ASSERT_EQ(h.reply_to(seq).outcome, Outcome::kOk);
 
-  const transport::StateFrame s = h.last_state();
+  const rigid::StateFrame s = h.last_state();
   ASSERT_EQ(s.tick, 300);
   // The sled: held at its last good state, at rest, finite.
   EXPECT_EQ(s.linear_velocity[3 * kSled], 0.0);

@@ -24,7 +24,7 @@ TEST(StateConversion, FrameHoldsEveryBodyInIdOrder) {
   const scene::Scene s = test_scene();
   physics::World world(s.world);
   world.step(3);
-  transport::StateFrame frame;
+  rigid::StateFrame frame;
   shape_state_frame(world, frame);
   ASSERT_TRUE(frame.lengths_agree());
   EXPECT_EQ(frame.ids, (std::vector<std::int32_t>{0, 1}));
@@ -51,7 +51,7 @@ TEST(StateConversion, FrameHoldsEveryBodyInIdOrder) {
 TEST(StateConversion, RefillingAFrameDoesNotReallocate) {
   const scene::Scene s = test_scene();
   physics::World world(s.world);
-  transport::StateFrame frame;
+  rigid::StateFrame frame;
   shape_state_frame(world, frame);
   const double* data = frame.position.data();
   for (int k = 0; k < 10; ++k) {
@@ -64,13 +64,13 @@ TEST(StateConversion, RefillingAFrameDoesNotReallocate) {
 TEST(StateConversion, SceneDescription) {
   const scene::Scene s = test_scene();
   physics::World world(s.world);
-  const transport::SceneDescription d = describe_scene(s, world);
+  const rigid::SceneDescription d = describe_scene(s, world);
   ASSERT_TRUE(d.lengths_agree());
   EXPECT_EQ(d.scene_name, "test.pbtxt");
   EXPECT_DOUBLE_EQ(d.dt, 1.0 / 500);
   EXPECT_EQ(d.substeps, 2);
   EXPECT_EQ(d.publish_every, 5);
-  EXPECT_EQ(d.gravity, (transport::Vec3{0, 0, -1}));
+  EXPECT_EQ(d.gravity, (rigid::Vec3{0, 0, -1}));
   EXPECT_EQ(d.integrator, std::string(world.integrator().name));
   EXPECT_EQ(d.max_force, 50);
   EXPECT_EQ(d.max_torque, 5);
@@ -92,9 +92,9 @@ body { name: "plain" mass: 1 inertia { x: 1 y: 1 z: 1 } }
 )",
                                             "shapes.pbtxt");
   physics::World world(s.world);
-  const transport::SceneDescription d = describe_scene(s, world);
+  const rigid::SceneDescription d = describe_scene(s, world);
   ASSERT_TRUE(d.lengths_agree());
-  using K = transport::ShapeKind;
+  using K = rigid::ShapeKind;
   EXPECT_EQ(d.shape_kinds, (std::vector<K>{K::kSphere, K::kBox, K::kCylinder, K::kCapsule,
                                            K::kEllipsoid, K::kNone}));
   EXPECT_EQ(d.shape_dims, (std::vector<double>{0.5, 0, 0, 1, 2, 3, 0.2, 0.7, 0, 0.1, 0.4, 0, 0.1,

@@ -83,3 +83,23 @@ TEST(Convergence, EveryIntegratorHasItsOrder) {
 
 }  // namespace
 }  // namespace rigid::test
+
+namespace rigid::test {
+namespace {
+
+// The default's loaded path on each body model it has one for (general: split drift; axisymmetric:
+// closed-form precession; isotropic: exact rotation), and its Suzuki-composed candidate: order 4.
+TEST(Convergence, Hybrid4IsFourthOrderOnEveryModel) {
+  for (const Vec3& I : {Vec3(1, 2, 3), Vec3(1, 1, 2), Vec3(0.7, 0.7, 0.7), Vec3(0.5, 1.0, 1.3)}) {
+    const RefState ref = reference(I);
+    for (const std::string name : {"hybrid4", "hybrid4_suzuki"}) {
+      const double e1 = error(name, I, ref, 10), e2 = error(name, I, ref, 20),
+                   e3 = error(name, I, ref, 40);
+      EXPECT_NEAR(std::log2(e2 / e3), 4.0, 0.3)
+          << name << " I = " << I.transpose() << ": errors " << e1 << " " << e2 << " " << e3;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rigid::test

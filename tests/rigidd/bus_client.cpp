@@ -26,9 +26,9 @@ std::string unique_prefix(const std::string& tag) {
   return tag + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
-BusClient::BusClient(transport::Bus bus, const std::string& prefix)
+BusClient::BusClient(rigid::Bus bus, const std::string& prefix)
     : bus_(bus), source_(static_cast<std::int64_t>(::getpid()) * 1000 + g_clients++) {
-  if (bus == transport::Bus::kDds) {
+  if (bus == rigid::Bus::kDds) {
     transport::dds::Options o;
     o.role = transport::Role::kClient;
     o.prefix = prefix;
@@ -46,25 +46,25 @@ BusClient::~BusClient() {
   transport_.reset();
 }
 
-std::int64_t BusClient::send(transport::WrenchCommand wrench) {
+std::int64_t BusClient::send(rigid::WrenchCommand wrench) {
   wrench.source = source_;
   wrench.seq = next_seq();
   (void)transport_->publish(wrench);
   return wrench.seq;
 }
 
-std::int64_t BusClient::send(transport::ControlCommand control) {
+std::int64_t BusClient::send(rigid::ControlCommand control) {
   control.source = source_;
   control.seq = next_seq();
   (void)transport_->publish(control);
   return control.seq;
 }
 
-std::optional<transport::ControlReply> BusClient::handshake(transport::ControlCommand control,
-                                                            std::chrono::milliseconds patience) {
+std::optional<rigid::ControlReply> BusClient::handshake(rigid::ControlCommand control,
+                                                        std::chrono::milliseconds patience) {
   const auto deadline = std::chrono::steady_clock::now() + patience;
   const std::int64_t first = seq_ + 1;
-  std::optional<transport::ControlReply> answer;
+  std::optional<rigid::ControlReply> answer;
   while (std::chrono::steady_clock::now() < deadline) {
     send(control);
     const bool got = wait(
@@ -82,10 +82,10 @@ std::optional<transport::ControlReply> BusClient::handshake(transport::ControlCo
   return std::nullopt;
 }
 
-std::optional<transport::ControlReply> BusClient::request(transport::ControlCommand control,
-                                                          std::chrono::milliseconds patience) {
+std::optional<rigid::ControlReply> BusClient::request(rigid::ControlCommand control,
+                                                      std::chrono::milliseconds patience) {
   const std::int64_t seq = send(control);
-  std::optional<transport::ControlReply> answer;
+  std::optional<rigid::ControlReply> answer;
   wait(
       [&] {
         for (const auto& r : replies_)
@@ -120,17 +120,17 @@ std::optional<TimedState> BusClient::last_state() const {
   return states_.back();
 }
 
-std::optional<transport::StatsReport> BusClient::last_stats() const {
+std::optional<rigid::StatsReport> BusClient::last_stats() const {
   const std::lock_guard lock(mutex_);
   return stats_;
 }
 
-std::optional<transport::SceneDescription> BusClient::scene() const {
+std::optional<rigid::SceneDescription> BusClient::scene() const {
   const std::lock_guard lock(mutex_);
   return scene_;
 }
 
-void BusClient::on_state(const transport::StateFrame& state) {
+void BusClient::on_state(const rigid::StateFrame& state) {
   const std::int64_t t = now_ns();
   {
     const std::lock_guard lock(mutex_);
@@ -139,7 +139,7 @@ void BusClient::on_state(const transport::StateFrame& state) {
   changed_.notify_all();
 }
 
-void BusClient::on_stats(const transport::StatsReport& stats) {
+void BusClient::on_stats(const rigid::StatsReport& stats) {
   {
     const std::lock_guard lock(mutex_);
     stats_ = stats;
@@ -147,7 +147,7 @@ void BusClient::on_stats(const transport::StatsReport& stats) {
   changed_.notify_all();
 }
 
-void BusClient::on_scene(const transport::SceneDescription& scene) {
+void BusClient::on_scene(const rigid::SceneDescription& scene) {
   {
     const std::lock_guard lock(mutex_);
     scene_ = scene;
@@ -155,7 +155,7 @@ void BusClient::on_scene(const transport::SceneDescription& scene) {
   changed_.notify_all();
 }
 
-void BusClient::on_control_reply(const transport::ControlReply& reply) {
+void BusClient::on_control_reply(const rigid::ControlReply& reply) {
   {
     const std::lock_guard lock(mutex_);
     replies_.push_back(reply);

@@ -18,7 +18,7 @@
 namespace rigid::rigidd::testing {
 
 struct TimedState {
-  transport::StateFrame state;
+  rigid::StateFrame state;
   std::int64_t received_ns = 0;  // CLOCK_MONOTONIC
 };
 
@@ -26,58 +26,58 @@ class BusClient final : public transport::Receiver {
  public:
   // Throws transport::TransportError when the bus cannot be set up (the test then fails with
   // what to run: scripts/net-setup).
-  BusClient(transport::Bus bus, const std::string& prefix);
+  BusClient(rigid::Bus bus, const std::string& prefix);
   ~BusClient() override;
 
-  transport::Bus bus() const { return bus_; }
+  rigid::Bus bus() const { return bus_; }
   std::int64_t source() const { return source_; }
   std::int64_t next_seq() { return ++seq_; }
 
   // Fills source and the next seq, publishes; returns the seq used.
-  std::int64_t send(transport::WrenchCommand wrench);
-  std::int64_t send(transport::ControlCommand control);
+  std::int64_t send(rigid::WrenchCommand wrench);
+  std::int64_t send(rigid::ControlCommand control);
   // Publishes exactly what it is given (source and seq included).
-  void send_as_is(const transport::WrenchCommand& wrench) { (void)transport_->publish(wrench); }
+  void send_as_is(const rigid::WrenchCommand& wrench) { (void)transport_->publish(wrench); }
 
   // Sends `control` (with a fresh seq each time) every 50 ms until one of them is answered, so the
   // daemon is known to hear us (DDS discovery takes a moment; commands are not kept for readers
   // that appear later). Returns the answer, or nothing after `patience`.
-  std::optional<transport::ControlReply> handshake(transport::ControlCommand control,
-                                                   std::chrono::milliseconds patience);
+  std::optional<rigid::ControlReply> handshake(rigid::ControlCommand control,
+                                               std::chrono::milliseconds patience);
   // Sends once and waits for the reply to that seq.
-  std::optional<transport::ControlReply> request(transport::ControlCommand control,
-                                                 std::chrono::milliseconds patience);
+  std::optional<rigid::ControlReply> request(rigid::ControlCommand control,
+                                             std::chrono::milliseconds patience);
 
   // Waits until pred() holds (called with the client's data locked), at most `patience`.
   bool wait(const std::function<bool()>& pred, std::chrono::milliseconds patience);
 
   // Copies (taken under the lock).
   std::vector<TimedState> states() const;
-  std::optional<transport::StatsReport> last_stats() const;
-  std::optional<transport::SceneDescription> scene() const;
+  std::optional<rigid::StatsReport> last_stats() const;
+  std::optional<rigid::SceneDescription> scene() const;
   std::size_t state_count() const;
   std::optional<TimedState> last_state() const;
 
   // For wait() predicates (the lock is held there).
   const std::vector<TimedState>& states_locked() const { return states_; }
-  const std::vector<transport::ControlReply>& replies_locked() const { return replies_; }
-  const std::optional<transport::StatsReport>& stats_locked() const { return stats_; }
+  const std::vector<rigid::ControlReply>& replies_locked() const { return replies_; }
+  const std::optional<rigid::StatsReport>& stats_locked() const { return stats_; }
 
  private:
-  void on_state(const transport::StateFrame& state) override;
-  void on_stats(const transport::StatsReport& stats) override;
-  void on_scene(const transport::SceneDescription& scene) override;
-  void on_control_reply(const transport::ControlReply& reply) override;
+  void on_state(const rigid::StateFrame& state) override;
+  void on_stats(const rigid::StatsReport& stats) override;
+  void on_scene(const rigid::SceneDescription& scene) override;
+  void on_control_reply(const rigid::ControlReply& reply) override;
 
-  const transport::Bus bus_;
+  const rigid::Bus bus_;
   const std::int64_t source_;
   std::int64_t seq_ = 0;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<TimedState> states_;
-  std::vector<transport::ControlReply> replies_;
-  std::optional<transport::StatsReport> stats_;
-  std::optional<transport::SceneDescription> scene_;
+  std::vector<rigid::ControlReply> replies_;
+  std::optional<rigid::StatsReport> stats_;
+  std::optional<rigid::SceneDescription> scene_;
   std::unique_ptr<transport::Transport> transport_;  // last: its thread stops first
 };
 

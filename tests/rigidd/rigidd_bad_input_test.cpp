@@ -30,12 +30,12 @@ namespace rigid::rigidd::testing {
 namespace {
 
 using namespace std::chrono_literals;
-using transport::Bus;
-using transport::ControlCommand;
-using transport::ControlKind;
-using transport::Outcome;
-using transport::RejectCounts;
-using transport::WrenchCommand;
+using rigid::Bus;
+using rigid::ControlCommand;
+using rigid::ControlKind;
+using rigid::Outcome;
+using rigid::RejectCounts;
+using rigid::WrenchCommand;
 
 const std::string kProbe = std::string(RIGIDD_TEST_SCENES) + "/probe.pbtxt";
 constexpr int kPuck = 1;  // the probe scene's point mass of 2 kg at x = 1; the brick is body 0
@@ -129,7 +129,7 @@ class BadInput : public ::testing::TestWithParam<Bus> {
     const std::int64_t after = client_->last_state()->state.tick;
     ASSERT_TRUE(client_->wait(
         [&] { return client_->states_locked().back().state.tick > after + 20; }, 10s));
-    const transport::StateFrame s = client_->last_state()->state;
+    const rigid::StateFrame s = client_->last_state()->state;
     for (std::size_t i = 0; i < 6; ++i) {
       EXPECT_EQ(s.angular_velocity[i], 0.0) << "at tick " << s.tick;
       if (i != 3 * kPuck) {
@@ -224,7 +224,7 @@ TEST_P(BadInput, AbsurdMagnitudesAreRefusedAsOverLimit) {
   const std::int64_t after = client_->last_state()->state.tick;
   ASSERT_TRUE(
       client_->wait([&] { return client_->states_locked().back().state.tick > after + 20; }, 10s));
-  const transport::StateFrame s = client_->last_state()->state;
+  const rigid::StateFrame s = client_->last_state()->state;
   EXPECT_NEAR(s.linear_velocity[3 * kPuck], 0.03, 1e-15);
   EXPECT_NEAR(s.linear_velocity[3 * kPuck + 1], 0.04, 1e-15);
   for (std::size_t i = 0; i < 3; ++i) {
@@ -239,14 +239,14 @@ TEST_P(BadInput, OutOfRangeEnumerationsAndArgumentsAreRefusedAsInvalid) {
   w.ttl = -1e-9;
   const std::int64_t first = client_->send(w);
   w = good_wrench();
-  w.force_frame = static_cast<transport::Frame>(-1);
+  w.force_frame = static_cast<rigid::Frame>(-1);
   client_->send(w);
   w = good_wrench();
   w.torque = {0, 0, 1};
-  w.torque_frame = static_cast<transport::Frame>(2);
+  w.torque_frame = static_cast<rigid::Frame>(2);
   client_->send(w);
   w = good_wrench();
-  w.torque_frame = static_cast<transport::Frame>(INT32_MIN);
+  w.torque_frame = static_cast<rigid::Frame>(INT32_MIN);
   client_->send(w);
   // The wrenches refused before any control is sent: on DDS they travel on another topic, so a
   // control sent now could be taken first and be the one logged.

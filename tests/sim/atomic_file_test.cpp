@@ -1,5 +1,5 @@
 // Output files appear complete or not at all.
-#include "sim/atomic_file.hpp"
+#include "util/atomic_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ TEST(AtomicFile, CommitRenamesTheTemporary) {
   const TestDir dir;
   const std::string out = dir.file("out.csv");
   {
-    AtomicFile f(out);
+    util::AtomicFile f(out);
     EXPECT_EQ(f.tmp_path(), out + ".tmp");
     f.write("hello\n");
     EXPECT_TRUE(fs::exists(out + ".tmp"));
@@ -36,7 +36,7 @@ TEST(AtomicFile, WithoutCommitNothingIsLeftAndTheOldFileIsKept) {
   const std::string out = dir.file("out.csv");
   write_file(out, "previous\n");
   {
-    AtomicFile f(out);
+    util::AtomicFile f(out);
     f.write("partial");
   }
   EXPECT_FALSE(fs::exists(out + ".tmp"));
@@ -47,7 +47,7 @@ TEST(AtomicFile, UncreatableFileNamesIt) {
   const TestDir dir;
   const std::string out = dir.file("missing/out.csv");
   try {
-    AtomicFile f(out);
+    util::AtomicFile f(out);
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(out + ".tmp"), std::string::npos) << e.what();
@@ -60,7 +60,7 @@ TEST(AtomicFile, FailedRenameRemovesTheTemporary) {
   const std::string out = dir.file("out");
   fs::create_directories(out + "/occupied");  // a non-empty directory cannot be replaced
   {
-    AtomicFile f(out);
+    util::AtomicFile f(out);
     f.write("x");
     EXPECT_THROW(f.commit(), std::runtime_error);
   }

@@ -75,7 +75,7 @@ TEST(SimRun, CsvHeaderRowsAndFormat) {
   EXPECT_FALSE(fs::exists(out + ".tmp"));
   const std::vector<std::string> rows = lines(read_file(out));
   ASSERT_FALSE(rows.empty());
-  EXPECT_EQ(rows[0] + "\n", kStateCsvHeader);
+  EXPECT_EQ(rows[0] + "\n", util::kStateCsvHeader);
   EXPECT_EQ(rows[0], "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
   // t = 0, every 6 steps (33 of them up to step 198), and the end (step 200): 35 times, 2 bodies.
   EXPECT_EQ(rows.size(), 1u + 2u * 35u);

@@ -26,7 +26,7 @@ using physics::BodyState;
 
 // What a scheme is, for the expectations below.
 enum class Kind {
-  kExact,  // exact_rotor, exact_rotor4: torque-free rotation exact at any step
+  kExact,  // exact_rotor, exact_rotor4, hybrid4: torque-free rotation exact at any step
   kRk4,    // fourth order, not symplectic
   kDlm,    // symplectic, second order, exact rotations
   kCatto,  // implicit gyroscopic step: stable, damped
@@ -34,7 +34,7 @@ enum class Kind {
 };
 
 Kind kind_of(const std::string& n) {
-  if (n == "exact_rotor" || n == "exact_rotor4") return Kind::kExact;
+  if (n == "exact_rotor" || n == "exact_rotor4" || n == "hybrid4") return Kind::kExact;
   if (n == "rk4") return Kind::kRk4;
   if (n == "dlm") return Kind::kDlm;
   if (n == "implicit_gyro") return Kind::kCatto;

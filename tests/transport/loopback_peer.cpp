@@ -19,6 +19,7 @@
 namespace {
 
 using namespace std::chrono_literals;
+using namespace rigid;
 using namespace rigid::transport;
 
 class Inbox final : public Receiver {

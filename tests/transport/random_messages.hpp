@@ -7,7 +7,7 @@
 #include <random>
 #include <string>
 
-#include "transport/messages.hpp"
+#include "rigid/messages.hpp"
 
 namespace rigid::transport::testing {
 

@@ -10,8 +10,8 @@
 #include <memory>
 #include <span>
 
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::transport::dds {
 

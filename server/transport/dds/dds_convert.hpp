@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 #include "transport/topic.hpp"
 
 namespace rigid::transport::dds {

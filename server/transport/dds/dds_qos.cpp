@@ -48,4 +48,10 @@ Qos topic_qos(Topic topic, bool reliable_state) {
   return qos;
 }
 
+Qos reader_qos(Topic topic, bool reliable_state) {
+  Qos qos = topic_qos(topic, reliable_state);
+  if (topic == Topic::kState) dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kStateReaderDepth);
+  return qos;
+}
+
 }  // namespace rigid::transport::dds

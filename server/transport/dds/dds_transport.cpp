@@ -263,7 +263,7 @@ class DdsTransport final : public Transport {
   void create(const TopicNames& names, bool reliable_state) {
     constexpr Topic topic = DdsTypeOf<Plain>::topic;
     const std::string& name = names[index_of(topic)];
-    const Qos qos = topic_qos(topic, reliable_state);
+    Qos qos = topic_qos(topic, reliable_state);
     Entity& entity = topics_[index_of(topic)];
     const dds_entity_t created = dds_create_topic(participant_.get(), DdsTypeOf<Plain>::descriptor,
                                                   name.c_str(), qos.get(), nullptr);
@@ -288,6 +288,7 @@ class DdsTransport final : public Transport {
           Entity(dds_create_writer(participant_.get(), entity.get(), qos.get(), nullptr),
                  "writer for " + name);
     } else {
+      if (topic == Topic::kState) qos = reader_qos(topic, reliable_state);
       inboxes_.push_back(
           std::make_unique<TypedInbox<Plain>>(participant_.get(), entity.get(), qos.get(), name));
       check(dds_waitset_attach(waitset_.get(), inboxes_.back()->condition(),
@@ -416,11 +417,19 @@ std::string ensure_dds_config() {
     }
     return line;
   }
-  // The installed configuration first, then the source tree's (a build run from its tree).
-  for (const char* candidate : {RIGID_INSTALLED_DDS_CONFIG, RIGID_SOURCE_DDS_CONFIG}) {
-    std::error_code error;
-    if (fs::is_regular_file(candidate, error)) {
-      const std::string uri = std::string("file://") + candidate;
+  // The installed configuration first (next to the program, whatever the prefix it was installed
+  // to; then at the configured prefix), then the source tree's (a build run from its tree).
+  std::error_code error;
+  const fs::path program = fs::read_symlink("/proc/self/exe", error);
+  const std::string beside =
+      error ? std::string()
+            : (program.parent_path() / RIGID_DATADIR_FROM_BINDIR / "rigid" / "cyclonedds.xml")
+                  .lexically_normal()
+                  .string();
+  for (const std::string& candidate :
+       {beside, std::string(RIGID_INSTALLED_DDS_CONFIG), std::string(RIGID_SOURCE_DDS_CONFIG)}) {
+    if (!candidate.empty() && fs::is_regular_file(candidate, error)) {
+      const std::string uri = "file://" + candidate;
       ::setenv("CYCLONEDDS_URI", uri.c_str(), 1);
       return "CYCLONEDDS_URI=" + uri + " (interfaces: lo; CYCLONEDDS_URI was unset)";
     }

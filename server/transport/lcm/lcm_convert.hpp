@@ -10,8 +10,8 @@
 #include <rigid_lcm/WorldState.hpp>
 #include <rigid_lcm/Wrench.hpp>
 
+#include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
-#include "transport/messages.hpp"
 
 namespace rigid::transport::lcm {
 

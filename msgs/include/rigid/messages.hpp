@@ -1,7 +1,8 @@
-// The messages rigid exchanges, as plain C++ values: what the rest of the server and the clients
-// see. Each bus adapter converts these to and from its generated types (msgs/rigid.idl,
-// msgs/rigid.lcm carry the same fields; read rigid.idl for units and frames). Nothing here knows
-// about DDS, LCM or the physics core.
+// The messages rigid exchanges, as plain C++ values: their one home, shared by the loop, the
+// transports, the record files, rigid's tools and every client built on the SDK (installed as
+// <rigid/messages.hpp>). Each bus adapter converts these to and from its generated types
+// (msgs/rigid.idl, msgs/rigid.lcm carry the same fields; read rigid.idl for units and frames).
+// Nothing here knows about DDS, LCM or the physics core (which keeps its own Eigen types).
 //
 // Per-body values are flat and interleaved per body, as on the wire: body i's position is
 // position[3 i .. 3 i + 2], its orientation (w, x, y, z) is orientation[4 i .. 4 i + 3]. Decoders
@@ -15,9 +16,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
-namespace rigid::transport {
+namespace rigid {
+
+// The two buses rigid speaks; a message carries the same fields on both.
+enum class Bus : std::uint8_t { kDds, kLcm };
+
+inline std::string_view to_string(Bus bus) {
+  return bus == Bus::kDds ? "dds" : "lcm";
+}
 
 enum class Frame : std::int32_t { kWorld = 0, kBody = 1 };
 
@@ -245,4 +254,4 @@ struct SceneDescription {
   bool operator==(const SceneDescription&) const = default;
 };
 
-}  // namespace rigid::transport
+}  // namespace rigid

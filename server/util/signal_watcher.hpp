@@ -10,7 +10,7 @@
 #include <initializer_list>
 #include <optional>
 
-namespace rigid::rigidd {
+namespace rigid::util {
 
 class SignalWatcher {
  public:
@@ -29,4 +29,4 @@ class SignalWatcher {
   int fd_ = -1;
 };
 
-}  // namespace rigid::rigidd
+}  // namespace rigid::util

@@ -1,4 +1,4 @@
-#include "rigidd/signal_watcher.hpp"
+#include "util/signal_watcher.hpp"
 
 #include <poll.h>
 #include <pthread.h>
@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <system_error>
 
-namespace rigid::rigidd {
+namespace rigid::util {
 
 SignalWatcher::SignalWatcher(std::initializer_list<int> signals) {
   sigemptyset(&set_);
@@ -39,4 +39,4 @@ std::optional<int> SignalWatcher::wait(std::chrono::milliseconds timeout) {
   return static_cast<int>(info.ssi_signo);
 }
 
-}  // namespace rigid::rigidd
+}  // namespace rigid::util

@@ -1,11 +1,11 @@
 // Write-then-rename output files.
-#include "sim/atomic_file.hpp"
+#include "util/atomic_file.hpp"
 
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
 
-namespace rigid::sim {
+namespace rigid::util {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
   file_.reset(std::fopen(tmp_.c_str(), "wb"));
@@ -47,4 +47,4 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
-}  // namespace rigid::sim
+}  // namespace rigid::util

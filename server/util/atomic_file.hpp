@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-namespace rigid::sim {
+namespace rigid::util {
 
 class AtomicFile {
  public:
@@ -38,4 +38,4 @@ class AtomicFile {
   bool committed_ = false;
 };
 
-}  // namespace rigid::sim
+}  // namespace rigid::util

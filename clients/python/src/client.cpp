@@ -1,0 +1,601 @@
+// The low-level client: rigid::client::Session for Python (rigid/__init__.py wraps it as
+// rigid.Client). Answers come back as plain values (dicts, State); turning a refusal into an
+// exception is the Python layer's, so that its messages live in one readable place.
+//
+// Threads: the session's receive thread never touches Python. It copies each state into a
+// shared, immutable frame and queues it for every open state stream; Python threads take them
+// with the GIL released while they wait.
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+#include "common.hpp"
+#include "session_api.hpp"
+
+namespace rigid::python {
+namespace {
+
+using std::chrono::milliseconds;
+
+milliseconds to_ms(double seconds) {
+  if (!(seconds >= 0.0)) {
+    raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
+          "timeout must be >= 0 seconds, got " + num(seconds));
+  }
+  return milliseconds(static_cast<std::int64_t>(std::min(seconds, 1e9) * 1000.0 + 0.5));
+}
+
+py::array int_view(const std::int32_t* data, py::ssize_t n, const py::object& owner) {
+  py::array a(py::dtype::of<std::int32_t>(), {n}, {static_cast<py::ssize_t>(sizeof(std::int32_t))},
+              data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+// One received state, immutable; its arrays are read-only views of the frame it holds.
+class PyState {
+ public:
+  explicit PyState(std::shared_ptr<const StateFrame> frame) : frame_(std::move(frame)) {
+    auto* keep = new std::shared_ptr<const StateFrame>(frame_);
+    owner_ = py::capsule(
+        keep, [](void* p) { delete static_cast<std::shared_ptr<const StateFrame>*>(p); });
+  }
+  const StateFrame& frame() const { return *frame_; }
+  py::ssize_t n() const { return static_cast<py::ssize_t>(frame_->body_count()); }
+  py::array ids() const { return int_view(frame_->ids.data(), n(), owner_); }
+  py::array positions() const { return readonly_view(frame_->position.data(), n(), 3, owner_); }
+  py::array orientations() const {
+    return readonly_view(frame_->orientation.data(), n(), 4, owner_);
+  }
+  py::array velocities() const {
+    return readonly_view(frame_->linear_velocity.data(), n(), 3, owner_);
+  }
+  py::array angular_velocities() const {
+    return readonly_view(frame_->angular_velocity.data(), n(), 3, owner_);
+  }
+  std::string repr() const {
+    return "<rigid.State tick " + std::to_string(frame_->tick) + ", t=" + num(frame_->sim_time) +
+           ", " + std::to_string(frame_->body_count()) + " bodies>";
+  }
+
+ private:
+  std::shared_ptr<const StateFrame> frame_;
+  py::capsule owner_;
+};
+
+// States for one stream, newest last; bounded: a slow reader loses the oldest (counted).
+struct StateQueue {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<std::shared_ptr<const StateFrame>> frames;
+  std::size_t capacity = 1024;
+  std::int64_t dropped = 0;
+  bool closed = false;
+};
+
+// What the receive thread's handler reaches: the open streams.
+struct Subscribers {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<StateQueue>> queues;
+
+  void deliver(const StateFrame& frame) {
+    const std::lock_guard lock(mutex);
+    if (queues.empty()) return;  // nobody streams: no copy
+    auto shared = std::make_shared<const StateFrame>(frame);
+    for (const auto& q : queues) {
+      {
+        const std::lock_guard ql(q->mutex);
+        if (q->frames.size() >= q->capacity) {
+          q->frames.pop_front();
+          ++q->dropped;
+        }
+        q->frames.push_back(shared);
+      }
+      q->changed.notify_all();
+    }
+  }
+  void remove(const std::shared_ptr<StateQueue>& q) {
+    const std::lock_guard lock(mutex);
+    std::erase(queues, q);
+  }
+};
+
+class PyStateStream {
+ public:
+  PyStateStream(std::shared_ptr<Subscribers> subscribers, std::size_t capacity, double timeout,
+                std::string bus)
+      : subscribers_(std::move(subscribers)), timeout_(timeout), bus_(std::move(bus)) {
+    queue_ = std::make_shared<StateQueue>();
+    queue_->capacity = std::max<std::size_t>(capacity, 1);
+    const std::lock_guard lock(subscribers_->mutex);
+    subscribers_->queues.push_back(queue_);
+  }
+  ~PyStateStream() { close(); }
+  PyStateStream(const PyStateStream&) = delete;
+  PyStateStream& operator=(const PyStateStream&) = delete;
+
+  // The next state; TimeoutError after `timeout` seconds without one. Waits in slices so that
+  // Ctrl-C is seen within 0.1 s.
+  PyState next() {
+    const auto deadline = std::chrono::steady_clock::now() + to_ms(timeout_);
+    for (;;) {
+      std::shared_ptr<const StateFrame> frame;
+      bool closed = false;
+      {
+        py::gil_scoped_release nogil;
+        std::unique_lock lock(queue_->mutex);
+        queue_->changed.wait_until(
+            lock, std::min(deadline, std::chrono::steady_clock::now() + milliseconds(100)),
+            [&] { return !queue_->frames.empty() || queue_->closed; });
+        closed = queue_->closed;
+        if (!queue_->frames.empty()) {
+          frame = std::move(queue_->frames.front());
+          queue_->frames.pop_front();
+        }
+      }
+      if (frame) return PyState(std::move(frame));
+      if (closed) throw py::stop_iteration();
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (std::chrono::steady_clock::now() >= deadline) {
+        raise(py::reinterpret_borrow<py::object>(PyExc_TimeoutError),
+              "no state from rigidd within " + num(timeout_) + " s on " + bus_ +
+                  " (is rigidd running, with the same transport, prefix and domain?)");
+      }
+    }
+  }
+
+  void close() {
+    if (!queue_) return;
+    subscribers_->remove(queue_);
+    {
+      const std::lock_guard lock(queue_->mutex);
+      queue_->closed = true;
+      queue_->frames.clear();
+    }
+    queue_->changed.notify_all();
+  }
+
+  std::int64_t dropped() const {
+    const std::lock_guard lock(queue_->mutex);
+    return queue_->dropped;
+  }
+  std::size_t pending() const {
+    const std::lock_guard lock(queue_->mutex);
+    return queue_->frames.size();
+  }
+
+ private:
+  std::shared_ptr<Subscribers> subscribers_;
+  std::shared_ptr<StateQueue> queue_;
+  double timeout_;
+  std::string bus_;
+};
+
+const char* shape_name(rigid::ShapeKind k) {
+  switch (k) {
+    case rigid::ShapeKind::kSphere:
+      return "sphere";
+    case rigid::ShapeKind::kBox:
+      return "box";
+    case rigid::ShapeKind::kCylinder:
+      return "cylinder";
+    case rigid::ShapeKind::kEllipsoid:
+      return "ellipsoid";
+    case rigid::ShapeKind::kCapsule:
+      return "capsule";
+    case rigid::ShapeKind::kNone:
+      break;
+  }
+  return "";
+}
+
+const char* mode_name(rigid::Mode m) {
+  switch (m) {
+    case rigid::Mode::kRealtime:
+      return "realtime";
+    case rigid::Mode::kFast:
+      return "fast";
+    case rigid::Mode::kLockstep:
+      return "lockstep";
+  }
+  return "unknown";
+}
+
+py::dict reply_dict(const ControlReply& r) {
+  py::dict d;
+  d["command"] = std::string(sdk::control_name(r.command));
+  d["ok"] = r.outcome == Outcome::kOk;
+  d["outcome"] = std::string(sdk::outcome_name(r.outcome));
+  d["message"] = r.message;
+  d["tick"] = r.tick;
+  d["seq"] = r.seq;
+  return d;
+}
+
+py::tuple vec_tuple(const rigid::Vec3& v) {
+  return py::make_tuple(v[0], v[1], v[2]);
+}
+
+py::dict accepted_dict(const AcceptedCommand& a) {
+  py::dict d;
+  d["tick"] = a.tick;
+  d["seq"] = a.seq;
+  d["body"] = a.body_id;
+  d["force"] = vec_tuple(a.force);
+  d["at"] = vec_tuple(a.point);
+  d["frame"] = a.force_frame == rigid::Frame::kBody ? "body" : "world";
+  d["torque"] = vec_tuple(a.torque);
+  d["torque_frame"] = a.torque_frame == rigid::Frame::kBody ? "body" : "world";
+  d["ttl"] = a.ttl;
+  return d;
+}
+
+py::dict scene_dict(const SceneDescription& s) {
+  py::dict d;
+  d["name"] = s.scene_name;
+  d["dt"] = s.dt;
+  d["substeps"] = s.substeps;
+  d["publish_every"] = s.publish_every;
+  d["gravity"] = vec_tuple(s.gravity);
+  d["integrator"] = s.integrator;
+  d["max_force"] = s.max_force;
+  d["max_torque"] = s.max_torque;
+  d["max_ttl"] = s.max_ttl;
+  d["max_wrenches_per_source"] = s.max_wrenches_per_source;
+  d["max_commands_per_second"] = s.max_commands_per_second;
+  py::list bodies;
+  for (std::size_t i = 0; i < s.body_count(); ++i) {
+    py::dict b;
+    b["id"] = s.ids[i];
+    b["name"] = s.names[i];
+    b["mass"] = s.masses[i];
+    const double* I = &s.inertia[6 * i];  // Ixx, Iyy, Izz, Ixy, Ixz, Iyz
+    b["inertia"] =
+        py::make_tuple(py::make_tuple(I[0], I[3], I[4]), py::make_tuple(I[3], I[1], I[5]),
+                       py::make_tuple(I[4], I[5], I[2]));
+    b["shape"] = shape_name(s.shape_kinds[i]);
+    b["dims"] =
+        py::make_tuple(s.shape_dims[3 * i], s.shape_dims[3 * i + 1], s.shape_dims[3 * i + 2]);
+    bodies.append(b);
+  }
+  d["bodies"] = bodies;
+  return d;
+}
+
+py::dict stats_dict(const StatsReport& s) {
+  py::dict d;
+  d["tick"] = s.tick;
+  d["sim_time"] = s.sim_time;
+  d["mode"] = mode_name(s.mode);
+  d["paused"] = s.paused;
+  d["rtf_last_second"] = s.rtf_last_second;
+  d["rtf_since_start"] = s.rtf_since_start;
+  d["lateness_p50_us"] = s.lateness_p50_us;
+  d["lateness_p99_us"] = s.lateness_p99_us;
+  d["lateness_max_us"] = s.lateness_max_us;
+  d["overruns"] = s.overruns;
+  d["step_cost_p50_us"] = s.step_cost_p50_us;
+  d["step_cost_max_us"] = s.step_cost_max_us;
+  d["bodies_frozen"] = s.bodies_frozen;
+  d["large_rotation_steps"] = s.large_rotation_steps;
+  d["states_skipped"] = s.states_skipped;
+  d["commands_accepted"] = s.commands_accepted;
+  const rigid::RejectCounts& r = s.rejected;
+  py::dict rejected;
+  rejected["non_finite"] = r.non_finite;
+  rejected["unknown_body"] = r.unknown_body;
+  rejected["over_limit"] = r.over_limit;
+  rejected["undecodable"] = r.undecodable;
+  rejected["stale_sequence"] = r.stale_sequence;
+  rejected["queue_full"] = r.queue_full;
+  rejected["invalid"] = r.invalid;
+  rejected["over_share"] = r.over_share;
+  rejected["rate_limited"] = r.rate_limited;
+  rejected["not_permitted"] = r.not_permitted;
+  d["rejected"] = rejected;
+  for (const auto& [name, c] :
+       {std::pair<const char*, const rigid::TransportCounts*>{"dds", &s.dds}, {"lcm", &s.lcm}}) {
+    py::dict t;
+    t["sent"] = c->sent;
+    t["send_failures"] = c->send_failures;
+    t["received"] = c->received;
+    t["decode_failures"] = c->decode_failures;
+    d[name] = t;
+  }
+  py::list refused;
+  for (const rigid::SourceRefusals& r2 : s.refused_by_source) {
+    py::dict e;
+    e["sender"] = r2.sender;
+    e["count"] = r2.count;
+    e["last_reason"] = r2.last_reason;
+    refused.append(e);
+  }
+  d["refused_by_source"] = refused;
+  return d;
+}
+
+rigid::Frame wire_frame(const py::handle& value, std::string_view what) {
+  return to_frame(value, what) == physics::Frame::kBody ? rigid::Frame::kBody
+                                                        : rigid::Frame::kWorld;
+}
+
+class PySession {
+ public:
+  PySession(const std::string& transport, const std::string& prefix, std::uint32_t domain,
+            const std::optional<std::string>& url, const std::optional<std::string>& security) {
+    sdk::BusOptions o;
+    if (transport == "dds") {
+      o.bus = rigid::Bus::kDds;
+    } else if (transport == "lcm") {
+      o.bus = rigid::Bus::kLcm;
+    } else {
+      raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
+            "transport must be 'dds' or 'lcm', got '" + transport + "'");
+    }
+    o.prefix = prefix;
+    o.dds_domain = domain;
+    o.lcm_url = url.value_or("");
+    o.security = security.value_or("");
+    subscribers_ = std::make_shared<Subscribers>();
+    try {
+      py::gil_scoped_release nogil;  // joining a DDS domain takes a moment
+      session_ = std::make_shared<sdk::Session>(o);
+    } catch (const sdk::BusError& e) {
+      raise(exceptions().transport_error, e.what());
+    }
+    std::weak_ptr<Subscribers> subs = subscribers_;
+    session_->on_each_state([subs](const StateFrame& f) {
+      if (auto s = subs.lock()) s->deliver(f);
+    });
+    describe_ = sdk::describe(o);
+  }
+
+  ~PySession() { close(); }
+  PySession(const PySession&) = delete;
+  PySession& operator=(const PySession&) = delete;
+
+  void close() {
+    if (!session_) return;
+    std::shared_ptr<sdk::Session> s = std::move(session_);
+    py::gil_scoped_release nogil;
+    s->on_each_state({});  // waits for a delivery in progress
+    s.reset();             // the bus stops here unless a call in another thread still holds it
+  }
+
+  const std::string& describe() const { return describe_; }
+  std::int64_t source() const { return live()->source(); }
+
+  py::object scene(double timeout) {
+    const auto session = live();
+    const auto patience = to_ms(timeout);
+    std::optional<SceneDescription> s;
+    {
+      py::gil_scoped_release nogil;
+      s = session->wait_scene(patience);
+    }
+    return s ? py::object(scene_dict(*s)) : py::none();
+  }
+
+  std::uint64_t scene_generation() const { return live()->scene_generation(); }
+
+  py::object stats(double timeout) {
+    const auto session = live();
+    const auto patience = to_ms(timeout);
+    std::optional<StatsReport> s;
+    {
+      py::gil_scoped_release nogil;
+      s = session->wait_stats(patience);
+    }
+    return s ? py::object(stats_dict(*s)) : py::none();
+  }
+
+  bool wait_server(double timeout) {
+    const auto session = live();
+    const auto ms = to_ms(timeout);
+    py::gil_scoped_release nogil;
+    return session->wait_server(ms);
+  }
+
+  py::object latest() const {
+    const auto session = live();
+    std::optional<StateFrame> s;
+    {
+      py::gil_scoped_release nogil;
+      s = session->latest_state();
+    }
+    if (!s) return py::none();
+    return py::cast(PyState(std::make_shared<const StateFrame>(std::move(*s))));
+  }
+
+  std::unique_ptr<PyStateStream> states(double timeout, std::size_t max_queue) {
+    (void)to_ms(timeout);  // checked now, not at the first next()
+    return std::make_unique<PyStateStream>(subscribers_, max_queue, timeout, describe_);
+  }
+
+  // "pause", "resume", "step", "reset", "rate": rigidd's answer as a dict, None on no answer.
+  py::object request(const std::string& kind, std::int64_t steps, double rtf, double timeout) {
+    const auto patience = to_ms(timeout);
+    if (kind != "pause" && kind != "resume" && kind != "step" && kind != "reset" &&
+        kind != "rate") {
+      raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
+            "unknown control '" + kind + "' (pause, resume, step, reset, rate)");
+    }
+    const auto s = live();
+    std::optional<ControlReply> r;
+    {
+      py::gil_scoped_release nogil;
+      if (kind == "pause") {
+        r = s->pause(patience);
+      } else if (kind == "resume") {
+        r = s->resume(patience);
+      } else if (kind == "step") {
+        r = s->step(steps, patience);
+      } else if (kind == "reset") {
+        r = s->reset(patience);
+      } else {
+        r = s->set_rtf(rtf, patience);
+      }
+    }
+    return r ? py::object(reply_dict(*r)) : py::none();
+  }
+
+  // The id of a body by name or id in the current scene, with rigidctl's message when unknown.
+  std::int32_t resolve(const py::handle& body, double timeout) {
+    std::string key;
+    if (py::isinstance<py::str>(body)) {
+      key = body.cast<std::string>();
+    } else if (py::isinstance<py::int_>(body) && !py::isinstance<py::bool_>(body)) {
+      key = std::to_string(body.cast<long long>());
+    } else {
+      raise(py::reinterpret_borrow<py::object>(PyExc_TypeError),
+            "a body is a name (str) or an id (int), got " +
+                std::string(py::str(py::type::of(body).attr("__name__"))));
+    }
+    const auto session = live();
+    const auto patience = to_ms(timeout);
+    std::optional<SceneDescription> scene;
+    {
+      py::gil_scoped_release nogil;
+      scene = session->wait_scene(patience);
+    }
+    if (!scene) {
+      raise(py::reinterpret_borrow<py::object>(PyExc_TimeoutError),
+            "no SceneInfo from rigidd within " + num(timeout) + " s on " + describe_ +
+                " (is rigidd running, with the same transport, prefix and domain?)");
+    }
+    const auto id = sdk::find_body(*scene, key);
+    if (!id) {
+      raise(exceptions().unknown_body_error,
+            "no body '" + key + "' in the scene (bodies: " + sdk::body_list(*scene) + ")");
+    }
+    return *id;
+  }
+
+  WrenchCommand wrench(std::int32_t body, const py::handle& force, const py::handle& at,
+                       const py::handle& frame, const py::handle& torque,
+                       const py::handle& torque_frame, double ttl) const {
+    WrenchCommand w;
+    w.body_id = body;
+    w.force = force.is_none() ? rigid::Vec3{} : to_array3(force, "force");
+    w.point = at.is_none() ? rigid::Vec3{} : to_array3(at, "at");
+    w.force_frame = wire_frame(frame, "frame");
+    w.torque = torque.is_none() ? rigid::Vec3{} : to_array3(torque, "torque");
+    w.torque_frame = wire_frame(torque_frame, "torque_frame");
+    w.ttl = ttl;
+    w.stamp_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                     std::chrono::system_clock::now().time_since_epoch())
+                     .count();
+    return w;
+  }
+
+  // (accepted dict, None) | (None, rigidd's reason) | (None, None) on no answer.
+  py::tuple push(const WrenchCommand& w, double timeout) {
+    const auto patience = to_ms(timeout);
+    const auto session = live();
+    std::optional<AcceptedCommand> accepted;
+    std::string refused;
+    {
+      py::gil_scoped_release nogil;
+      accepted = session->push(w, patience, &refused);
+    }
+    if (accepted) return py::make_tuple(accepted_dict(*accepted), py::none());
+    if (!refused.empty()) return py::make_tuple(py::none(), refused);
+    return py::make_tuple(py::none(), py::none());
+  }
+
+  std::int64_t send(const WrenchCommand& w) {
+    const auto session = live();
+    py::gil_scoped_release nogil;
+    return session->send(w);
+  }
+
+  py::object take_refusal() {
+    const auto r = live()->take_refusal();
+    return r ? py::object(py::str(r->message)) : py::none();
+  }
+
+  std::int64_t wrenches_refused() const { return live()->wrenches_refused(); }
+
+ private:
+  // A reference for the call: close() from another thread cannot free the session under it.
+  std::shared_ptr<sdk::Session> live() const {
+    if (!session_) {
+      raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError), "the client is closed");
+    }
+    return session_;
+  }
+
+  std::shared_ptr<Subscribers> subscribers_;
+  std::shared_ptr<sdk::Session> session_;
+  std::string describe_;
+};
+
+}  // namespace
+
+void bind_client(py::module_& m) {
+  py::class_<PyState>(m, "State", R"doc(One state rigidd published (immutable).
+
+tick, time (simulated s), stamp_ns (rigidd's wall clock at publish, CLOCK_REALTIME ns), and per
+body, in the order of ids: positions (N, 3), orientations (N, 4, w first), velocities (N, 3) and
+angular_velocities (N, 3), all in the world frame; read-only NumPy views of the received message
+(no copy beyond the one taken off the bus).)doc")
+      .def_property_readonly("tick", [](const PyState& s) { return s.frame().tick; })
+      .def_property_readonly("time", [](const PyState& s) { return s.frame().sim_time; })
+      .def_property_readonly("stamp_ns", [](const PyState& s) { return s.frame().stamp_ns; })
+      .def_property_readonly("ids", &PyState::ids, "(N,) int32 body ids, one per row.")
+      .def_property_readonly("positions", &PyState::positions, "(N, 3) p_WBo (m).")
+      .def_property_readonly("orientations", &PyState::orientations, "(N, 4) q_WB as (w, x, y, z).")
+      .def_property_readonly("velocities", &PyState::velocities, "(N, 3) v_WBo in W (m/s).")
+      .def_property_readonly("angular_velocities", &PyState::angular_velocities,
+                             "(N, 3) w_WB in W (rad/s).")
+      .def("__len__", [](const PyState& s) { return s.n(); })
+      .def("__repr__", &PyState::repr);
+
+  py::class_<PyStateStream>(m, "StateStream", R"doc(An iterator over the states rigidd publishes
+from now on, in the order they arrive (Client.states()). next() waits up to `timeout` seconds with
+the GIL released and raises TimeoutError after that; close() (or leaving a `with` block) ends it.
+A reader slower than the bus loses the oldest queued states (counted in `dropped`).)doc")
+      .def("__iter__", [](py::object self) { return self; })
+      .def("__next__", &PyStateStream::next)
+      .def("close", &PyStateStream::close)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PyStateStream& s, const py::args&) { s.close(); })
+      .def_property_readonly("dropped", &PyStateStream::dropped,
+                             "States lost because this stream's queue was full.")
+      .def_property_readonly("pending", &PyStateStream::pending, "States queued, not yet read.");
+
+  py::class_<WrenchCommand>(m, "_Wrench");
+
+  py::class_<PySession>(m, "_Session", "The C++ rigid::client::Session (use rigid.Client).")
+      .def(py::init<const std::string&, const std::string&, std::uint32_t,
+                    const std::optional<std::string>&, const std::optional<std::string>&>(),
+           py::arg("transport"), py::arg("prefix"), py::arg("domain"), py::arg("url"),
+           py::arg("security"))
+      .def("close", &PySession::close)
+      .def_property_readonly("describe", &PySession::describe)
+      .def_property_readonly("source", &PySession::source)
+      .def("scene", &PySession::scene, py::arg("timeout"))
+      .def("scene_generation", &PySession::scene_generation)
+      .def("stats", &PySession::stats, py::arg("timeout"))
+      .def("wait_server", &PySession::wait_server, py::arg("timeout"))
+      .def("latest", &PySession::latest)
+      .def("states", &PySession::states, py::arg("timeout"), py::arg("max_queue"))
+      .def("request", &PySession::request, py::arg("kind"), py::arg("steps"), py::arg("rtf"),
+           py::arg("timeout"))
+      .def("resolve", &PySession::resolve, py::arg("body"), py::arg("timeout"))
+      .def("wrench", &PySession::wrench, py::arg("body"), py::arg("force"), py::arg("at"),
+           py::arg("frame"), py::arg("torque"), py::arg("torque_frame"), py::arg("ttl"))
+      .def("push", &PySession::push, py::arg("wrench"), py::arg("timeout"))
+      .def("send", &PySession::send, py::arg("wrench"))
+      .def("take_refusal", &PySession::take_refusal)
+      .def_property_readonly("wrenches_refused", &PySession::wrenches_refused);
+}
+
+}  // namespace rigid::python

@@ -1,0 +1,18 @@
+// The CSV format of body states: one row per body and time, world-frame quantities, every number
+// with 17 significant digits so that a double survives the round trip through text. rigid-sim
+// writes it from the world (sim/state_csv.hpp), the tools from received states.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+
+namespace rigid::util {
+
+inline constexpr std::string_view kStateCsvHeader = "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+
+// Appends one row: t, the body's name, then x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz.
+void append_state_row(std::string& out, double t, std::string_view body,
+                      const std::array<double, 13>& values);
+
+}  // namespace rigid::util

@@ -1,0 +1,174 @@
+// World::step on a pool of threads, and the regrouping of bodies whose loads start or stop: the
+// states are bit-identical for any thread count and across runs, a body's trajectory does not
+// depend on the other bodies or on where it sits in its model's arrays, and stepping allocates
+// nothing.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "allocation_counter.hpp"
+#include "test_util.hpp"
+
+namespace rigid::test {
+namespace {
+
+using physics::BodyState;
+using physics::Frame;
+using physics::LoadSpec;
+
+// Bodies of all four models, spread a little; some carry a constant load (a body-fixed thruster
+// or a world force at a lever), some drag, the others none.
+WorldSpec crowd(int n, const std::string& integrator, int threads) {
+  WorldSpec ws;
+  ws.dt = 1e-3;
+  ws.integrator = integrator;
+  ws.threads = threads;
+  ws.g_W = {0, 0, -9.81};
+  for (int i = 0; i < n; ++i) {
+    const double e = 1e-3 * (i % 97);
+    const Vec3 I = i % 4 == 0   ? Vec3(1, 2, 3)
+                   : i % 4 == 1 ? Vec3(1, 1, 0.4)
+                   : i % 4 == 2 ? Vec3(0.7, 0.7, 0.7)
+                                : Vec3(0.5, 1.0, 1.3);
+    BodySpec b = body("b" + std::to_string(i), I, {0.3 + e, -0.2, 2.0 + 10 * e});
+    if (i % 11 == 5) b.has_inertia = false;
+    b.use_gravity = i % 2 == 0;
+    if (i % 13 == 3) b.angular_drag = 0.05;
+    if (i % 17 == 4) b.linear_drag = 0.4;
+    b.v_WBo = {e, 1, 0};
+    ws.bodies.push_back(b);
+    if (i % 3 == 0) {
+      ws.loads.push_back(
+          LoadSpec{.body = i, .force = {0, 0, 4}, .p_BoQ_B = {0.4, 0.1, 0}, .frame = Frame::kBody});
+    } else if (i % 5 == 1) {
+      ws.loads.push_back(LoadSpec{.body = i, .force = {0, 0, -9.81}, .p_BoQ_B = {0, 0, 0.3}});
+    }
+  }
+  return ws;
+}
+
+// Drives a world through a run in which applied loads start and stop on some bodies (every 10
+// steps the set changes), with an impulse now and then.
+void drive(World& w, int steps) {
+  for (int k = 0; k < steps; ++k) {
+    if (k % 10 == 0) {
+      w.clear_applied();
+      for (int i = k % 7; i < w.body_count(); i += 7)
+        w.add_torque(i, {0.1, -0.2, 0.05 * (k % 3)}, Frame::kBody);
+      for (int i = k % 5; i < w.body_count(); i += 19)
+        w.add_force(i, {1, 0, 0}, {0, 0.2, 0}, Frame::kWorld);
+    }
+    if (k % 25 == 7) w.apply_impulse(k % w.body_count(), {0, 0, 0.1}, {0.1, 0, 0}, Frame::kBody);
+    w.step();
+  }
+}
+
+std::uint64_t hash_of(const World& w) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over every body's state bytes
+  for (int i = 0; i < w.body_count(); ++i) {
+    const BodyState s = w.state(i);
+    for (double v :
+         {s.p_WBo.x(), s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(),
+          s.v_WBo.x(), s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z()}) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+    }
+  }
+  return h;
+}
+
+TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
+  // 8 threads of at least kMinBodiesPerThread bodies each: every count below really splits.
+  const int n = 8 * World::kMinBodiesPerThread + 37;
+  for (const std::string integrator : {"", "exact_rotor4", "rk4", "dlm"}) {
+    std::uint64_t first = 0;
+    for (int threads : {1, 2, 3, 8, 1}) {
+      World w(crowd(n, integrator, threads));
+      EXPECT_EQ(w.threads(), threads);
+      drive(w, 60);
+      const std::uint64_t h = hash_of(w);
+      if (first == 0) first = h;
+      EXPECT_EQ(h, first) << "'" << integrator << "' with " << threads << " threads";
+    }
+  }
+}
+
+TEST(WorldThreads, SetThreadsMidRunAndCopies) {
+  const int n = 4 * World::kMinBodiesPerThread;
+  World a(crowd(n, "", 1)), b(crowd(n, "", 3));
+  drive(a, 30);
+  drive(b, 30);
+  b.set_threads(2);
+  World c = b;  // a copy gets a pool of its own
+  EXPECT_EQ(c.threads(), 2);
+  drive(a, 30);
+  drive(b, 30);
+  drive(c, 30);
+  EXPECT_EQ(hash_of(a), hash_of(b));
+  EXPECT_EQ(hash_of(a), hash_of(c));
+  EXPECT_THROW(a.set_threads(-1), std::invalid_argument);
+  WorldSpec bad = crowd(4, "", 1);
+  bad.threads = -2;
+  EXPECT_THROW(World{bad}, physics::SpecError);
+  a.set_threads(0);
+  EXPECT_GE(a.threads(), 1);
+}
+
+TEST(WorldThreads, SteppingAllocatesNothing) {
+  World w(crowd(4 * World::kMinBodiesPerThread, "", 3));
+  w.step(2);
+  const long before = allocation_count();
+  drive(w, 40);
+  EXPECT_EQ(allocation_count(), before);
+}
+
+// A body's trajectory is the same alone and in a crowd whose other bodies' loads start and stop
+// (so that it changes place in its model's arrays many times), for every body model.
+TEST(WorldRegroup, ABodyMovesBetweenRunsWithoutChangingItsTrajectory) {
+  const int n = 300;
+  const WorldSpec ws = crowd(n, "", 2);
+  World all(ws);
+  for (int id : {0, 1, 2, 3, 5, 16, 21}) {
+    WorldSpec one = ws;
+    one.bodies = {ws.bodies[id]};
+    one.loads.clear();
+    for (LoadSpec l : ws.loads) {
+      if (l.body == id) one.loads.push_back((l.body = 0, l));
+    }
+    World alone(one);
+    all = World(ws);
+    for (int k = 0; k < 60; ++k) {
+      if (k % 10 == 0) {
+        all.clear_applied();
+        alone.clear_applied();
+        for (int i = k % 7; i < n; i += 7) {
+          all.add_torque(i, {0.1, -0.2, 0.05 * (k % 3)}, Frame::kBody);
+          if (i == id) alone.add_torque(0, {0.1, -0.2, 0.05 * (k % 3)}, Frame::kBody);
+        }
+      }
+      all.step();
+      alone.step();
+    }
+    const BodyState a = all.state(id), b = alone.state(0);
+    EXPECT_EQ(a.q_WB.coeffs(), b.q_WB.coeffs()) << id;
+    EXPECT_EQ(a.w_WB, b.w_WB) << id;
+    EXPECT_EQ(a.p_WBo, b.p_WBo) << id;
+    EXPECT_EQ(a.v_WBo, b.v_WBo) << id;
+  }
+}
+
+// The default on a body nothing turns is the exact free rotor: bit for bit exact_rotor4's step.
+TEST(Hybrid4, FreeBodiesTakeTheExactRotorStep) {
+  for (const Vec3& I : {Vec3(1, 2, 3), Vec3(1, 1, 1.8), Vec3(0.4, 0.4, 0.4)}) {
+    World a(one_body(body("r", I, {1e-3, 5, 1e-3}), 1e-3, "hybrid4"));
+    World b(one_body(body("r", I, {1e-3, 5, 1e-3}), 1e-3, "exact_rotor4"));
+    a.step(20000);
+    b.step(20000);
+    EXPECT_EQ(a.state(0).q_WB.coeffs(), b.state(0).q_WB.coeffs()) << I.transpose();
+    EXPECT_EQ(a.state(0).w_WB, b.state(0).w_WB) << I.transpose();
+  }
+}
+
+}  // namespace
+}  // namespace rigid::test

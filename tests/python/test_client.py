@@ -1,0 +1,207 @@
+"""rigid.Client against a live rigidd on each bus (DDS and LCM over loopback): the scene, states in
+order, a push's effect per tick, controls answered, refusals raised with rigidd's reason.
+
+rigidd runs as a subprocess with a unique --prefix per test and is stopped by PID (conftest.py).
+Needs scripts/net-setup (LCM's multicast route on lo) and CYCLONEDDS_URI (ctest sets both up)."""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Callable
+
+import numpy as np
+import pytest
+
+import rigid
+from conftest import SCENES, Daemon, StartDaemon
+
+pytestmark = pytest.mark.network
+
+PROBE = SCENES / "probe.pbtxt"
+LOCKSTEP = SCENES / "lockstep.pbtxt"
+PUCK = 1
+DV_PER_TICK = 4.0 * 1e-3 / 2.0  # 4 N on the 2 kg puck for one 1 ms tick
+
+
+def client_for(d: Daemon) -> rigid.Client:
+    try:
+        c = rigid.Client(d.transport, prefix=d.prefix, timeout=10.0)
+    except rigid.TransportError as e:
+        pytest.fail(f"{e} (run scripts/net-setup as root; ctest sets CYCLONEDDS_URI)")
+    try:
+        c.scene()  # rigidd is up and seen on this bus
+    except TimeoutError:
+        pytest.fail(f"rigidd did not show up; its stderr:\n{d.stderr()}")
+    return c
+
+
+def wait_for(pred: Callable[[], bool], timeout: float = 10.0) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if pred():
+            return True
+        time.sleep(0.005)
+    return pred()
+
+
+def test_the_scene_matches_the_file(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    w = rigid.World.load(str(PROBE))
+    with client_for(d) as c:
+        s = c.scene()
+        assert [b.name for b in s.bodies] == w.body_names == ["brick", "puck"]
+        assert [b.id for b in s.bodies] == [0, 1]
+        assert [b.mass for b in s.bodies] == list(w.masses)
+        assert np.array_equal(np.array(s.bodies[0].inertia), w.inertia("brick"))
+        assert (s.dt, s.rate_hz, s.substeps, s.publish_every) == (1e-3, 1000.0, 1, 1)
+        assert (s.max_force, s.max_torque, s.max_ttl) == (100.0, 50.0, 5.0)
+        assert s.gravity == (0.0, 0.0, 0.0)
+        assert s.integrator == w.integrator
+        assert c.bodies() == list(s.bodies)
+        assert c.body("puck") == PUCK and c.body(0) == 0
+        with pytest.raises(rigid.UnknownBodyError,
+                           match=r"^no body 'nope' in the scene \(bodies: brick, puck\)$"):
+            c.body("nope")
+        with pytest.raises(rigid.UnknownBodyError):
+            c.push("nope", [1, 0, 0])
+    assert d.stop() == 0, d.stderr()
+
+
+def test_states_arrive_in_order_with_numpy_arrays(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    with client_for(d) as c, c.states(timeout=10.0) as stream:
+        got = [next(stream) for _ in range(100)]
+        assert stream.dropped == 0
+    ticks = [s.tick for s in got]
+    assert all(b > a for a, b in zip(ticks, ticks[1:])), ticks
+    if bus == "lcm":  # LCM on loopback loses nothing at this rate; best-effort DDS may skip
+        assert ticks == list(range(ticks[0], ticks[0] + 100))
+    for s in got:
+        assert s.time == pytest.approx(s.tick * 1e-3, rel=1e-12)
+        assert list(s.ids) == [0, 1] and len(s) == 2
+        assert s.positions.shape == (2, 3) and s.orientations.shape == (2, 4)
+        assert s.velocities.shape == (2, 3) and s.angular_velocities.shape == (2, 3)
+        assert not s.positions.flags.writeable
+        assert s.positions[PUCK].tolist() == [1.0, 0.0, 0.0]
+    assert d.stop() == 0, d.stderr()
+
+
+def test_a_push_changes_velocity_by_f_dt_over_m_per_tick(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    with client_for(d) as c, c.states(timeout=10.0) as stream:
+        next(stream)
+        accepted = c.push("puck", [4, 0, 0], ttl=0.1)  # 100 ticks
+        assert (accepted.body, accepted.force, accepted.ttl) == (PUCK, (4.0, 0.0, 0.0), 0.1)
+        states = []
+        while not states or states[-1].tick < accepted.tick + 200:
+            states.append(next(stream))
+    v = [(s.tick, float(s.velocities[PUCK, 0])) for s in states]
+    moving = [(t, x) for t, x in v if x > 0]
+    assert moving, v[:5]
+    # The tick the push began, read off the first moving state (k ticks pushed: k * F dt / m).
+    onset = moving[0][0] + 1 - round(moving[0][1] / DV_PER_TICK)
+    assert onset in (accepted.tick, accepted.tick + 1), (onset, accepted.tick)
+    for t, x in v:
+        pushed = min(max(t - onset + 1, 0), 100)
+        assert x == pytest.approx(DV_PER_TICK * pushed, abs=1e-12), (t, onset)
+    assert sum(1 for t, _ in v if t >= onset + 100) > 50  # well after expiry: 100 ticks' worth
+    # The brick was not touched.
+    assert np.all(states[-1].velocities[0] == 0) and np.all(states[-1].angular_velocities[0] == 0)
+    assert d.stop() == 0, d.stderr()
+
+
+def test_pause_step_reset_resume_are_answered(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    with client_for(d) as c:
+        paused = c.pause()
+        assert paused.command == "pause"
+        assert wait_for(lambda: (s := c.latest()) is not None and s.tick >= paused.tick)
+        time.sleep(0.05)
+        t0 = c.latest().tick
+        time.sleep(0.1)
+        assert c.latest().tick == t0, "ticks went on while paused"
+
+        # One tick of 4 N on the puck while paused: exactly F dt / m after the next step.
+        c.push("puck", [4, 0, 0], ttl=0.0)
+        stepped = c.step(5)
+        assert stepped.command == "step"
+        assert wait_for(lambda: c.latest().tick == t0 + 5), (c.latest().tick, t0)
+        s = c.latest()
+        assert s.velocities[PUCK].tolist() == [DV_PER_TICK, 0.0, 0.0]
+
+        reset = c.reset()
+        assert reset.command == "reset"
+        c.step(1)
+        assert wait_for(lambda: c.latest().tick == 1), c.latest().tick
+        s = c.latest()
+        assert s.velocities[PUCK].tolist() == [0.0, 0.0, 0.0]
+        assert s.positions[PUCK].tolist() == [1.0, 0.0, 0.0]
+
+        resumed = c.resume()
+        assert resumed.command == "resume"
+        assert wait_for(lambda: c.latest().tick > 50)
+        assert c.set_rate(2.0).command == "rate"
+        stats = c.stats()
+        assert stats["mode"] == "realtime" and stats["commands_accepted"] >= 1
+    assert d.stop() == 0, d.stderr()
+
+
+def test_refused_commands_raise_with_rigidds_reason(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    with client_for(d) as c:
+        with pytest.raises(rigid.Refused) as e:
+            c.push("puck", [1, 0, 0], ttl=10.0)
+        assert "ttl 10 s > max_ttl 5" in e.value.reason
+        assert str(e.value).startswith("push: refused by rigidd: ")
+        with pytest.raises(rigid.Refused, match=r"\|force\| 1000 N > max_force 100"):
+            c.push("puck", [1000, 0, 0])
+        with pytest.raises(rigid.Refused, match=r"max_torque 50"):
+            c.push("brick", torque=[0, 0, 60])
+        with pytest.raises(rigid.Refused, match=r"force \(nan, 0, 0\)"):
+            c.push("puck", [math.nan, 0, 0])
+        with pytest.raises(rigid.Refused, match=r"^rate: invalid: "):
+            c.set_rate(0.0)
+        with pytest.raises(ValueError, match="frame must be 'world' or 'body'"):
+            c.push("puck", [1, 0, 0], frame="local")
+        # None of them moved anything.
+        s = c.latest()
+        assert s is not None and np.all(s.velocities == 0)
+        stats = c.stats()
+        assert stats["rejected"]["over_limit"] >= 3 or wait_for(
+            lambda: c.stats()["rejected"]["over_limit"] >= 3, 3.0)
+    assert d.stop() == 0, d.stderr()
+
+
+def test_no_rigidd_times_out_with_the_bus_named(bus: str) -> None:
+    with rigid.Client(bus, prefix="pynobody", timeout=0.3) as c:
+        with pytest.raises(TimeoutError, match="no SceneInfo from rigidd within 0.3 s"):
+            c.scene()
+        with pytest.raises(TimeoutError, match="reply to pause"):
+            c.pause()
+        with c.states(timeout=0.2) as stream, pytest.raises(TimeoutError, match="no state"):
+            next(stream)
+    with pytest.raises(ValueError, match="transport must be 'dds' or 'lcm'"):
+        rigid.Client("udp")
+
+
+@pytest.mark.lockstep
+def test_lockstep_step_500_yields_500_over_publish_every_states(rigidd: StartDaemon,
+                                                                bus: str) -> None:
+    d = rigidd(LOCKSTEP, bus, "lockstep", "--reliable-state")
+    with client_for(d) as c, c.states(timeout=2.0) as stream:
+        reply = c.step(500)
+        ticks: list[int] = []
+        deadline = time.monotonic() + 10.0  # rigidd may repeat its last state while idle
+        while time.monotonic() < deadline:
+            try:
+                s = next(stream)
+            except TimeoutError:
+                break
+            if 0 < s.tick <= 500 and s.tick not in ticks:
+                ticks.append(s.tick)
+            if s.tick >= 500:
+                break
+        assert reply.command == "step"
+        assert ticks == list(range(10, 501, 10)), ticks
+    assert d.stop() == 0, d.stderr()
