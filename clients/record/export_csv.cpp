@@ -1,5 +1,6 @@
 #include "record/export_csv.hpp"
 
+#include <filesystem>
 #include <map>
 #include <ostream>
 
@@ -77,35 +78,12 @@ Exported from_rigid_log(const RecordOptions& o) {
   return e;
 }
 
-// The channel names of rigidd's state and scene in an LCM log: with --prefix, that prefix's;
-// else the unprefixed ones if present, else the one prefix the log holds.
+// The channel names of rigidd's state and scene in an LCM log.
 std::pair<std::string, std::string> lcm_channels(const RecordOptions& o,
                                                  const std::map<std::string, std::int64_t>& seen) {
   using transport::Topic;
-  const auto names = [](const std::string& prefix) {
-    const transport::TopicNames n = transport::lcm_channel_names(prefix);
-    return std::pair{n[transport::index_of(Topic::kState)], n[transport::index_of(Topic::kScene)]};
-  };
-  if (o.bus_prefix_given) return names(o.bus.prefix);
-  const std::string plain = names("").first;
-  if (seen.contains(plain)) return names("");
-  std::vector<std::string> prefixes;
-  for (const auto& [channel, n] : seen) {
-    if (channel.size() > plain.size() + 1 && channel.ends_with("_" + plain)) {
-      prefixes.push_back(channel.substr(0, channel.size() - plain.size() - 1));
-    }
-  }
-  if (prefixes.size() > 1) {
-    std::string list;
-    for (const std::string& p : prefixes)
-      list += (list.empty() ? "" : ", ") + p;
-    throw clients::UsageError(o.file + " holds the states of several prefixes (" + list +
-                              "): choose one with --prefix");
-  }
-  if (prefixes.empty()) {
-    throw records::LogFileError(o.file + ": no " + plain + " channel (of any prefix) in this log");
-  }
-  return names(prefixes.front());
+  const transport::TopicNames n = transport::lcm_channel_names(lcm_log_prefix(o, seen));
+  return {n[transport::index_of(Topic::kState)], n[transport::index_of(Topic::kScene)]};
 }
 
 Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
@@ -162,8 +140,43 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
 
 }  // namespace
 
+std::string lcm_log_prefix(const RecordOptions& o,
+                           const std::map<std::string, std::int64_t>& seen) {
+  using transport::Topic;
+  const auto state = [](const std::string& prefix) {
+    return transport::lcm_channel_names(prefix)[transport::index_of(Topic::kState)];
+  };
+  if (o.bus_prefix_given) return o.bus.prefix;
+  const std::string plain = state("");
+  if (seen.contains(plain)) return "";
+  std::vector<std::string> prefixes;
+  for (const auto& [channel, n] : seen) {
+    if (channel.size() > plain.size() + 1 && channel.ends_with("_" + plain)) {
+      prefixes.push_back(channel.substr(0, channel.size() - plain.size() - 1));
+    }
+  }
+  if (prefixes.size() > 1) {
+    std::string list;
+    for (const std::string& p : prefixes)
+      list += (list.empty() ? "" : ", ") + p;
+    throw clients::UsageError(o.file + " holds the states of several prefixes (" + list +
+                              "): choose one with --prefix");
+  }
+  if (prefixes.empty()) {
+    throw records::LogFileError(o.file + ": no " + plain + " channel (of any prefix) in this log");
+  }
+  return prefixes.front();
+}
+
+void refuse_existing(const std::string& path, bool force) {
+  if (!force && std::filesystem::exists(path)) {
+    throw records::LogFileError(path + " already exists (--force overwrites it)");
+  }
+}
+
 int export_csv(const RecordOptions& o, std::ostream& out, std::ostream& err) {
   try {
+    refuse_existing(o.csv, o.force);
     const bool lcm = records::looks_like_lcm_log(o.file);
     const Exported e = lcm ? from_lcm_log(o, err) : from_rigid_log(o);
     out << o.csv << ": " << e.states << " states, " << e.rows << " rows from " << o.file

@@ -1,5 +1,6 @@
 // rigid-record: records what rigidd publishes, and reads recordings back (info, export, play).
-// Wiring only: record_options (command line), recorder, log_info, export_csv, player.
+// Wiring only: record_options (command line), recorder, log_info, export_csv, export_mcap,
+// player.
 #include <signal.h>
 
 #include <exception>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "record/export_csv.hpp"
+#include "record/export_mcap.hpp"
 #include "record/log_info.hpp"
 #include "record/player.hpp"
 #include "record/record_options.hpp"
@@ -32,8 +34,14 @@ int main(int argc, char** argv) {
     switch (options.command) {
       case record::Command::kInfo:
         return record::info(options.file, std::cout, std::cerr);
-      case record::Command::kExport:
-        return record::export_csv(options, std::cout, std::cerr);
+      case record::Command::kExport: {
+        int status = options.csv.empty() ? clients::kExitOk
+                                         : record::export_csv(options, std::cout, std::cerr);
+        if (status == clients::kExitOk && !options.mcap.empty()) {
+          status = record::export_mcap(options, std::cout, std::cerr);
+        }
+        return status;
+      }
       case record::Command::kRecord:
       case record::Command::kPlay: {
         // Before the bus starts its threads: they inherit the blocked signals.

@@ -19,7 +19,8 @@ bool takes(Command c, std::string_view option, bool bus_option) {
     case Command::kInfo:
       return false;
     case Command::kExport:
-      return option == "--csv" || option == "--prefix";
+      return option == "--csv" || option == "--mcap" || option == "--prefix" ||
+             option == "--force" || option == "-f";
     case Command::kPlay:
       return bus_option || option == "--speed";
   }
@@ -79,6 +80,9 @@ RecordOptions parse_options(std::span<const std::string_view> args) {
     } else if (arg.name == "--csv") {
       if (arg.value.empty()) throw UsageError("--csv: expected a file name, got ''");
       o.csv = std::string(arg.value);
+    } else if (arg.name == "--mcap") {
+      if (arg.value.empty()) throw UsageError("--mcap: expected a file name, got ''");
+      o.mcap = std::string(arg.value);
     } else if (arg.name == "--speed") {
       o.speed = clients::parse_positive(arg.name, arg.value, "a speed factor > 0");
     }
@@ -91,8 +95,11 @@ RecordOptions parse_options(std::span<const std::string_view> args) {
     throw UsageError(std::string(command_name) + ": unexpected argument " + quoted(positional[1]));
   }
   o.file = std::string(positional[0]);
-  if (o.command == Command::kExport && o.csv.empty()) {
-    throw UsageError("export: missing --csv OUT");
+  if (o.command == Command::kExport && o.csv.empty() && o.mcap.empty()) {
+    throw UsageError("export: missing --csv OUT or --mcap OUT");
+  }
+  if (!o.csv.empty() && o.csv == o.mcap) {
+    throw UsageError("export: --csv and --mcap name the same file " + quoted(o.csv));
   }
   return o;
 }
@@ -101,7 +108,7 @@ std::string usage() {
   std::string text =
       R"(Usage: rigid-record record OUT [--duration S] [--force] [--timeout S] [BUS OPTIONS]
        rigid-record info FILE
-       rigid-record export FILE --csv OUT [--prefix P]
+       rigid-record export FILE [--csv OUT] [--mcap OUT] [--force] [--prefix P]
        rigid-record play FILE [--speed X] [BUS OPTIONS]
 
 Records what rigidd publishes on one bus, and reads recordings back.

@@ -21,8 +21,9 @@ struct RecordOptions {
   bool bus_prefix_given = false;            // export: --prefix picks an LCM log's channels
   std::chrono::milliseconds timeout{5000};  // record: for rigidd's SceneInfo
   std::optional<double> duration;           // record: seconds; unset: until SIGINT/SIGTERM
-  bool force = false;                       // record: overwrite OUT
+  bool force = false;                       // record, export: overwrite OUT
   std::string csv;                          // export
+  std::string mcap;                         // export
   double speed = 1.0;                       // play
   bool help = false;
 };

@@ -106,6 +106,10 @@ TEST(RigidRecordOptions, CommandsAndRefusals) {
   EXPECT_EQ(e.csv, "a.csv");
   EXPECT_TRUE(e.bus_prefix_given);
   EXPECT_EQ(e.bus.prefix, "p");
+  const record::RecordOptions m = parse({"export", "a.rlog", "--mcap", "a.mcap", "-f"});
+  EXPECT_EQ(m.mcap, "a.mcap");
+  EXPECT_TRUE(m.csv.empty());
+  EXPECT_TRUE(m.force);
   EXPECT_EQ(parse({"play", "a.rlog", "--speed", "4"}).speed, 4.0);
   EXPECT_TRUE(parse({"record", "-f", "o.rlog"}).force);
   const struct {
@@ -113,7 +117,9 @@ TEST(RigidRecordOptions, CommandsAndRefusals) {
     std::string message;
   } cases[] = {
       {{"record"}, "record: missing the output file"},
-      {{"export", "a.rlog"}, "export: missing --csv OUT"},
+      {{"export", "a.rlog"}, "export: missing --csv OUT or --mcap OUT"},
+      {{"export", "a.rlog", "--csv", "o", "--mcap", "o"}, "export: --csv and --mcap name the same"},
+      {{"export", "a.rlog", "--mcap", ""}, "--mcap: expected a file name, got ''"},
       {{"info", "a", "b"}, "info: unexpected argument 'b'"},
       {{"info", "a", "--duration", "1"}, "unknown option '--duration' for info"},
       {{"play", "a", "--speed", "0"}, "--speed: expected a speed factor > 0, got '0'"},
@@ -154,7 +160,7 @@ TEST(ToolsAsProcesses, BadCommandLinesExit2WithOneLineAndHelpExits0) {
   } cases[] = {
       {RIGIDCTL_EXE, {"step", "-3"}, "rigidctl: step: expected an integer >= 1, got '-3'"},
       {RIGIDCTL_EXE, {"push", "b", "--force", "1"}, "rigidctl: --force: expected three numbers"},
-      {RIGID_RECORD_EXE, {"export", "x"}, "rigid-record: export: missing --csv OUT"},
+      {RIGID_RECORD_EXE, {"export", "x"}, "rigid-record: export: missing --csv OUT or --mcap OUT"},
       {RIGID_ATTITUDE_EXE, {"--rate", "0"}, "rigid-attitude: --rate: expected a rate in Hz > 0"},
       {RIGID_SIM_EXE,
        {"--replay", "j", "--dt", "1e-3"},

@@ -34,7 +34,8 @@ using rigid::Bus;
 using sim::testing::TestDir;
 
 const std::string kProbe = std::string(RIGIDD_TEST_SCENES) + "/probe.pbtxt";
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
+// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
+const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
 const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
 
 std::string bus_name(Bus b) {

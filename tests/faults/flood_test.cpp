@@ -14,7 +14,8 @@
 namespace rigid::faults::testing {
 namespace {
 
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
+// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
+const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
 
 // Every command received (decoded) is accepted or refused for one reason (undecodable payloads
 // are counted apart: they were never received as commands).

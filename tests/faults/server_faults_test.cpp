@@ -24,7 +24,8 @@ namespace {
 using rigidd::testing::TimedState;
 using sim::testing::TestDir;
 
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/default.pbtxt";
+// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
+const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
 const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
 const std::string kAttitudeMoved = std::string(RIGID_FAULT_SCENES) + "/attitude_moved.pbtxt";
 

@@ -16,7 +16,7 @@ import pytest
 import rigid
 from conftest import SCENES, SOURCE_DIR, program
 
-DEFAULT = SOURCE_DIR / "config" / "scenes" / "default.pbtxt"
+DEFAULT = SOURCE_DIR / "config" / "scenes" / "mixed.pbtxt"  # every body model, under gravity
 RACKET = SOURCE_DIR / "config" / "scenes" / "racket.pbtxt"
 
 

@@ -26,7 +26,7 @@ std::string unique_prefix(const std::string& tag) {
   return tag + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
-BusClient::BusClient(rigid::Bus bus, const std::string& prefix)
+BusClient::BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url)
     : bus_(bus), source_(static_cast<std::int64_t>(::getpid()) * 1000 + g_clients++) {
   if (bus == rigid::Bus::kDds) {
     transport::dds::Options o;
@@ -37,7 +37,8 @@ BusClient::BusClient(rigid::Bus bus, const std::string& prefix)
     transport::lcm::Options o;
     o.role = transport::Role::kClient;
     o.prefix = prefix;
-    o.url = std::string(transport::lcm::kDefaultUrl) + "&recv_buf_size=4194304";
+    o.url = lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) + "&recv_buf_size=4194304"
+                            : lcm_url;
     transport_ = transport::lcm::make_transport(o, *this);
   }
 }

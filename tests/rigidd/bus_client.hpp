@@ -26,7 +26,8 @@ class BusClient final : public transport::Receiver {
  public:
   // Throws transport::TransportError when the bus cannot be set up (the test then fails with
   // what to run: scripts/net-setup).
-  BusClient(rigid::Bus bus, const std::string& prefix);
+  // `lcm_url`: empty for the default group and port (with a 4 MiB receive buffer).
+  BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url = "");
   ~BusClient() override;
 
   rigid::Bus bus() const { return bus_; }
