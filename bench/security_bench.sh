@@ -2,7 +2,8 @@
 # DDS Security against plain DDS, side by side in one run (issue 10's targets): wrench-to-state
 # latency p50/p99 and tick lateness p99 at 1 kHz with 1000 bodies (loop_bench realtime), and the
 # states per second DDS carries from rigidd to one subscriber at 1000 bodies (loop_bench fast
-# --publish-every 1). Runs alternate plain and secure, REPEATS times each.
+# --publish-every 1). Runs alternate plain, secure and secure with the state unencrypted, REPEATS
+# times each.
 #
 #   bench/security_bench.sh [--build DIR] [--duration S] [--repeats N]
 set -euo pipefail
@@ -23,11 +24,15 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$here/scripts/rigid-keys" init "$work/ks" >/dev/null
 "$here/scripts/rigid-keys" add "$work/ks" bench --may push >/dev/null
+# The same with the state unencrypted (rigid-keys init --state-protection none).
+"$here/scripts/rigid-keys" init "$work/ks_none" --state-protection none >/dev/null
+"$here/scripts/rigid-keys" add "$work/ks_none" bench --may push >/dev/null
 bench=$build/bench/loop_bench
 for ((r = 1; r <= repeats; ++r)); do
-  for kind in plain secure; do
+  for kind in plain secure secure-state-none; do
     sec=()
     [[ $kind == secure ]] && sec=(--security "$work/ks")
+    [[ $kind == secure-state-none ]] && sec=(--security "$work/ks_none")
     echo "== run $r: $kind: realtime, 1000 bodies, ${duration} s"
     "$bench" realtime --bodies 1000 --duration "$duration" --transport dds "${sec[@]}"
     echo "== run $r: $kind: fast, 1000 point masses, a state every tick, 10 s"

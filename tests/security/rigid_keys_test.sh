@@ -199,6 +199,22 @@ pass "--force"
 expect_ok show "$ks" alice
 [[ $out == *'CN=alice'* && $out == *'push:craft,top'* ]] || fail "show alice: $out"
 
+# --- how rigid/state travels: encrypted by default, else as init --state-protection says ------------
+state_protection() {  # GOVERNANCE.xml: the data_protection_kind of the *rigid/state rule
+  awk '/\*rigid\/state</{f=1} f && /<data_protection_kind>/{print; exit}' "$1" |
+    sed 's/.*<data_protection_kind>\([A-Z]*\)<.*/\1/'
+}
+[[ $(state_protection "$ks/governance.xml") == ENCRYPT ]] ||
+  fail "state not encrypted by default: [$(state_protection "$ks/governance.xml")]"
+expect_ok init "$work/ks_none" --state-protection none
+[[ $(state_protection "$work/ks_none/governance.xml") == NONE ]] ||
+  fail "--state-protection none: $(state_protection "$work/ks_none/governance.xml")"
+grep -A8 '\*rigid/scene<' "$work/ks_none/governance.xml" | grep -q '<data_protection_kind>ENCRYPT<' ||
+  fail "--state-protection none must leave the scene encrypted"
+run init "$work/ks_bad" --state-protection maybe
+[[ $rc == 2 && $err == *"'maybe'"* ]] || fail "bad --state-protection: rc $rc, $err"
+pass "--state-protection"
+
 # --- nothing secret was ever printed ------------------------------------------------------------------
 if grep -q 'PRIVATE KEY' "$log"; then fail "a private key appeared on stdout/stderr"; fi
 pass "no secret printed"
