@@ -7,6 +7,7 @@ Needs scripts/net-setup (LCM's multicast route on lo) and CYCLONEDDS_URI (ctest 
 from __future__ import annotations
 
 import math
+import os
 import time
 from typing import Callable
 
@@ -188,8 +189,18 @@ def test_no_rigidd_times_out_with_the_bus_named(bus: str) -> None:
 @pytest.mark.lockstep
 def test_lockstep_step_500_yields_500_over_publish_every_states(rigidd: StartDaemon,
                                                                 bus: str) -> None:
-    d = rigidd(LOCKSTEP, bus, "lockstep", "--reliable-state")
-    with client_for(d) as c, c.states(timeout=2.0) as stream:
+    # As the C++ lockstep test does: the state best-effort (the subscriber keeps 256 unread; a
+    # reliable keep-last-1 writer would replace a state not yet acknowledged), and on LCM a group
+    # port of the test's own, so that no other traffic shares this client's receive buffers.
+    url = f"udpm://239.255.76.67:{7900 + os.getpid() % 90}?ttl=0&recv_buf_size=4194304"
+    extra = ("--lcm-url", url) if bus == "lcm" else ()
+    d = rigidd(LOCKSTEP, bus, "lockstep", *extra)
+    try:
+        c = rigid.Client(bus, prefix=d.prefix, url=url if bus == "lcm" else None, timeout=10.0)
+        c.scene()
+    except (rigid.TransportError, TimeoutError) as e:
+        pytest.fail(f"{e}; rigidd's stderr:\n{d.stderr()}")
+    with c, c.states(timeout=2.0) as stream:
         reply = c.step(500)
         ticks: list[int] = []
         deadline = time.monotonic() + 10.0  # rigidd may repeat its last state while idle

@@ -1,0 +1,283 @@
+// rigid-view: rigidd in a web browser. Wiring: the SDK's Session (states, scene, Stats, controls,
+// wrenches), a pump that sends the newest state to the pages at most kFrameRate times a second,
+// a worker that carries out the pages' control requests one at a time, and the HTTP/WebSocket
+// server (server.hpp).
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "protocol.hpp"
+#include "rigid/client/names.hpp"
+#include "rigid/client/session.hpp"
+#include "server.hpp"
+#include "util/signal_watcher.hpp"
+#include "view_options.hpp"
+
+namespace {
+
+using namespace rigid;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kFrameRate = 60;
+constexpr std::size_t kMaxPendingControls = 8;
+constexpr auto kControlPatience = 3s;
+constexpr double kPushTtl = 0.1;         // s of simulated time; re-sent each frame
+constexpr auto kMinPushInterval = 10ms;  // per page
+constexpr std::size_t kMaxPushingPages = 64;
+
+std::filesystem::path default_web_dir() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::filesystem::path("web") : exe.parent_path() / "web";
+}
+
+struct Job {
+  view::PageCommand command;
+  std::function<void(view::Bytes)> reply;
+};
+
+class Viewer {
+ public:
+  Viewer(const view::ViewOptions& o, client::Session& session) : session_(session) {
+    view::ServerOptions so;
+    so.host = o.host;
+    so.port = o.port;
+    so.read_only = o.read_only;
+    so.web_dir = o.web_dir.empty() ? default_web_dir() : std::filesystem::path(o.web_dir);
+    server_ = std::make_unique<view::ViewServer>(
+        so,
+        [this](std::uint64_t page, const view::PageCommand& c,
+               std::function<void(view::Bytes)> reply) { command(page, c, std::move(reply)); },
+        [this] { return greeting(); });
+  }
+
+  std::uint16_t port() const { return server_->port(); }
+
+  void start() {
+    session_.on_each_state([this](const StateFrame& s) {
+      const std::lock_guard lock(mutex_);
+      latest_ = s;
+      fresh_ = true;
+    });
+    session_.on_each_scene([this](const SceneDescription& d) { set_scene(d); });
+    session_.on_each_stats([this](const StatsReport& s) {
+      auto text = std::make_shared<const std::string>(view::stats_json(s));
+      {
+        const std::lock_guard lock(mutex_);
+        stats_text_ = text;
+      }
+      server_->broadcast_text(text);
+    });
+    server_->start();
+    pump_ = std::thread([this] { pump(); });
+    worker_ = std::thread([this] { work(); });
+  }
+
+  void stop() {
+    {
+      const std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    if (pump_.joinable()) pump_.join();
+    if (worker_.joinable()) worker_.join();
+    session_.on_each_state({});
+    session_.on_each_scene({});
+    session_.on_each_stats({});
+    server_->stop();
+  }
+
+  const view::ServerCounts& counts() const { return server_->counts(); }
+
+ private:
+  // A SceneInfo that differs from the one drawn (LCM repeats it every second).
+  void set_scene(const SceneDescription& d) {
+    view::Bytes text;
+    {
+      const std::lock_guard lock(mutex_);
+      if (scene_ && *scene_ == d) return;
+      scene_ = d;
+      ++generation_;
+      text = std::make_shared<const std::string>(view::scene_json(d, generation_));
+      scene_text_ = text;
+    }
+    server_->broadcast_text(text);
+  }
+
+  std::vector<view::Bytes> greeting() {
+    const std::lock_guard lock(mutex_);
+    std::vector<view::Bytes> out;
+    if (scene_text_) out.push_back(scene_text_);
+    if (stats_text_) out.push_back(stats_text_);
+    return out;
+  }
+
+  // Server thread.
+  void command(std::uint64_t page, const view::PageCommand& c,
+               std::function<void(view::Bytes)> reply) {
+    if (c.op == view::Op::kPush) return push(page, c);
+    {
+      const std::lock_guard lock(mutex_);
+      if (jobs_.size() < kMaxPendingControls) {
+        jobs_.push_back(Job{c, std::move(reply)});
+        wake_.notify_all();
+        return;
+      }
+    }
+    reply(std::make_shared<const std::string>(view::reply_json(
+        c.id, view::op_name(c.op), false, "refused", 0, "busy: too many requests waiting")));
+  }
+
+  void push(std::uint64_t page, const view::PageCommand& c) {
+    const auto now = Clock::now();
+    auto it = last_push_.find(page);
+    if (it != last_push_.end() && now - it->second < kMinPushInterval) return;  // too often
+    if (it == last_push_.end() && last_push_.size() >= kMaxPushingPages) last_push_.clear();
+    last_push_[page] = now;
+    WrenchCommand w;
+    w.key = static_cast<std::int32_t>(page & 0x7fffffff);  // one wrench per page and body
+    w.body_id = c.body;
+    w.force = c.force;
+    w.point = c.point;
+    w.force_frame = Frame::kWorld;
+    w.ttl = kPushTtl;
+    session_.send(w);
+  }
+
+  void work() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+      if (stopping_) return;
+      Job job = std::move(jobs_.front());
+      jobs_.pop_front();
+      lock.unlock();
+      const view::PageCommand& c = job.command;
+      std::optional<ControlReply> r;
+      switch (c.op) {
+        case view::Op::kPause:
+          r = session_.pause(kControlPatience);
+          break;
+        case view::Op::kResume:
+          r = session_.resume(kControlPatience);
+          break;
+        case view::Op::kStep:
+          r = session_.step(c.steps, kControlPatience);
+          break;
+        case view::Op::kReset:
+          r = session_.reset(kControlPatience);
+          break;
+        case view::Op::kPush:
+          break;
+      }
+      const std::string text =
+          r ? view::reply_json(c.id, view::op_name(c.op), r->outcome == Outcome::kOk,
+                               client::outcome_name(r->outcome), r->tick, r->message)
+            : view::reply_json(c.id, view::op_name(c.op), false, "timeout", 0,
+                               "no answer from rigidd within 3 s");
+      job.reply(std::make_shared<const std::string>(text));
+      lock.lock();
+    }
+  }
+
+  void pump() {
+    const auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1.0 / kFrameRate));
+    auto next = Clock::now();
+    std::unique_lock lock(mutex_);
+    while (!stopping_) {
+      next += period;
+      if (wake_.wait_until(lock, next, [this] { return stopping_; })) return;
+      if (Clock::now() > next + 10 * period) next = Clock::now();  // after a stall: no burst
+      // A SceneInfo that came before the handler was set (DDS: transient-local, at discovery),
+      // or a restarted rigidd's.
+      if (const auto g = session_.scene_generation(); g != seen_generation_) {
+        lock.unlock();
+        if (const auto d = session_.wait_scene(0ms)) set_scene(*d);
+        seen_generation_ = g;
+        lock.lock();
+      }
+      if (!fresh_ || !latest_) continue;
+      fresh_ = false;
+      const StateFrame state = *latest_;
+      const auto generation = static_cast<std::uint32_t>(generation_);
+      lock.unlock();
+      server_->broadcast_state(
+          std::make_shared<const std::string>(view::encode_state(state, generation)));
+      lock.lock();
+    }
+  }
+
+  client::Session& session_;
+  std::unique_ptr<view::ViewServer> server_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<StateFrame> latest_;
+  bool fresh_ = false;
+  std::optional<SceneDescription> scene_;
+  std::uint64_t generation_ = 0;
+  std::uint64_t seen_generation_ = 0;  // pump thread only
+  view::Bytes scene_text_, stats_text_;
+  std::deque<Job> jobs_;
+  bool stopping_ = false;
+  std::map<std::uint64_t, Clock::time_point> last_push_;  // server thread only
+  std::thread pump_, worker_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  view::ViewOptions options;
+  try {
+    options = view::parse_options(args);
+  } catch (const clients::UsageError& e) {
+    std::cerr << "rigid-view: " << e.what() << '\n';
+    return clients::kExitUsage;
+  }
+  if (options.help) {
+    std::cout << view::usage();
+    return clients::kExitOk;
+  }
+  try {
+    util::SignalWatcher signals({SIGINT, SIGTERM});
+    client::Session session(options.bus);
+    Viewer viewer(options, session);
+    viewer.start();
+    if (view::listens_beyond_host(options.host)) {
+      std::cerr << "rigid-view: warning: listening on " << options.host
+                << ": any host that reaches this one can open the page"
+                << (options.read_only ? "" : " and pause, step, reset and push the simulation")
+                << " (no authentication; use 127.0.0.1 and an SSH tunnel, or --read-only)\n";
+    }
+    std::cout << "rigid-view: http://" << options.host << ':' << viewer.port() << "/ ("
+              << client::describe(options.bus) << (options.read_only ? ", read-only" : "") << ")"
+              << std::endl;
+    while (!signals.wait(1s)) {
+    }
+    viewer.stop();
+    const view::ServerCounts& c = viewer.counts();
+    std::cerr << "rigid-view: stopped; pages " << c.pages_connected << ", states sent "
+              << c.states_sent << ", dropped for slow pages " << c.states_dropped
+              << ", refused: frames " << c.frames_refused << ", commands " << c.commands_refused
+              << ", connections " << c.connections_refused << ", http " << c.http_refused << '\n';
+    return clients::kExitOk;
+  } catch (const std::exception& e) {
+    std::cerr << "rigid-view: " << e.what() << '\n';
+    return clients::kExitFailed;
+  }
+}

@@ -1,0 +1,409 @@
+#include "protocol.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+namespace rigid::view {
+namespace {
+
+void put_u32(std::string& out, std::uint32_t v) {
+  char b[4];
+  std::memcpy(b, &v, 4);  // the hosts rigid runs on are little-endian (x86-64, aarch64)
+  out.append(b, 4);
+}
+void put_i64(std::string& out, std::int64_t v) {
+  char b[8];
+  std::memcpy(b, &v, 8);
+  out.append(b, 8);
+}
+void put_f64s(std::string& out, const double* v, std::size_t n) {
+  out.append(reinterpret_cast<const char*>(v), n * sizeof(double));
+}
+
+void number(std::string& out, double v) {
+  if (!std::isfinite(v)) {
+    out += "null";
+    return;
+  }
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  out += b;
+}
+void integer(std::string& out, std::int64_t v) {
+  out += std::to_string(v);
+}
+void string(std::string& out, std::string_view s) {
+  out += '"';
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", u);
+      out += b;
+    } else {
+      out += c;
+    }
+  }
+  out += '"';
+}
+void numbers(std::string& out, const double* v, std::size_t n) {
+  out += '[';
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) out += ',';
+    number(out, v[i]);
+  }
+  out += ']';
+}
+
+std::string_view shape_name(ShapeKind k) {
+  switch (k) {
+    case ShapeKind::kSphere:
+      return "sphere";
+    case ShapeKind::kBox:
+      return "box";
+    case ShapeKind::kCylinder:
+      return "cylinder";
+    case ShapeKind::kEllipsoid:
+      return "ellipsoid";
+    case ShapeKind::kCapsule:
+      return "capsule";
+    case ShapeKind::kNone:
+      break;
+  }
+  return "";
+}
+
+// A strict reader of one flat JSON object: string keys and values without escapes, numbers,
+// arrays of up to three numbers. Anything else is refused.
+class Reader {
+ public:
+  explicit Reader(std::string_view s) : s_(s) {}
+  struct Value {
+    enum class Kind { kString, kNumber, kArray } kind = Kind::kNumber;
+    std::string_view text;
+    double num = 0;
+    std::vector<double> array;
+  };
+  // Calls field(key, value) for each member; returns an error or "".
+  template <typename F>
+  std::string object(F&& field) {
+    ws();
+    if (!eat('{')) return "expected a JSON object";
+    ws();
+    if (eat('}')) return end();
+    for (int members = 0;; ++members) {
+      if (members >= 8) return "too many fields";
+      std::string_view key;
+      if (!str(key)) return "expected a field name";
+      ws();
+      if (!eat(':')) return "expected ':'";
+      ws();
+      Value v;
+      if (peek() == '"') {
+        v.kind = Value::Kind::kString;
+        if (!str(v.text)) return "bad string";
+      } else if (peek() == '[') {
+        v.kind = Value::Kind::kArray;
+        ++i_;
+        ws();
+        if (!eat(']')) {
+          for (;;) {
+            double d;
+            if (v.array.size() >= 3 || !num(d)) return "bad array (at most 3 numbers)";
+            v.array.push_back(d);
+            ws();
+            if (eat(']')) break;
+            if (!eat(',')) return "bad array";
+            ws();
+          }
+        }
+      } else if (!num(v.num)) {
+        return "bad value of " + std::string(key.substr(0, 24));
+      }
+      if (std::string e = field(key, v); !e.empty()) return e;
+      ws();
+      if (eat('}')) return end();
+      if (!eat(',')) return "expected ',' or '}'";
+      ws();
+    }
+  }
+
+ private:
+  char peek() const { return i_ < s_.size() ? s_[i_] : '\0'; }
+  bool eat(char c) {
+    if (peek() != c) return false;
+    ++i_;
+    return true;
+  }
+  void ws() {
+    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\t' || s_[i_] == '\r'))
+      ++i_;
+  }
+  std::string end() {
+    ws();
+    return i_ == s_.size() ? "" : "trailing bytes after the object";
+  }
+  bool str(std::string_view& out) {
+    if (!eat('"')) return false;
+    const std::size_t start = i_;
+    while (i_ < s_.size() && s_[i_] != '"') {
+      const auto u = static_cast<unsigned char>(s_[i_]);
+      if (s_[i_] == '\\' || u < 0x20 || u >= 0x80) return false;
+      ++i_;
+    }
+    if (i_ >= s_.size()) return false;
+    out = s_.substr(start, i_ - start);
+    ++i_;
+    return out.size() <= 32;
+  }
+  bool num(double& out) {
+    const std::size_t start = i_;
+    while (i_ < s_.size() && std::strchr("+-0123456789.eE", s_[i_]) != nullptr)
+      ++i_;
+    if (i_ == start || i_ - start > 32) return false;
+    const std::string text(s_.substr(start, i_ - start));
+    char* end = nullptr;
+    out = std::strtod(text.c_str(), &end);
+    return end == text.c_str() + text.size() && std::isfinite(out);
+  }
+
+  std::string_view s_;
+  std::size_t i_ = 0;
+};
+
+bool whole(double v, double lo, double hi) {
+  return v >= lo && v <= hi && std::floor(v) == v;
+}
+
+}  // namespace
+
+std::string encode_state(const StateFrame& state, std::uint32_t scene_generation) {
+  const std::size_t n = state.ids.size();
+  std::string out;
+  out.reserve(kStateHeaderBytes + 7 * n * sizeof(double) + 4 * n);
+  put_u32(out, kStateMagic);
+  put_u32(out, static_cast<std::uint32_t>(n));
+  put_u32(out, scene_generation);
+  put_u32(out, 0);
+  put_i64(out, state.tick);
+  const double t = state.sim_time;
+  put_f64s(out, &t, 1);
+  put_f64s(out, state.position.data(), std::min(state.position.size(), 3 * n));
+  put_f64s(out, state.orientation.data(), std::min(state.orientation.size(), 4 * n));
+  out.resize(kStateHeaderBytes + 7 * n * sizeof(double), '\0');  // a short frame: zeros
+  out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
+  return out;
+}
+
+MomentBox box_of_moments(double mass, const double* in) {
+  MomentBox box;
+  Eigen::Matrix3d inertia;
+  inertia << in[0], in[3], in[4], in[3], in[1], in[5], in[4], in[5], in[2];
+  if (!(mass > 0) || !inertia.allFinite() || inertia.norm() <= 0) {
+    box.size = {0.1, 0.1, 0.1};  // a point mass: a small marker
+    return box;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(inertia);
+  const Eigen::Vector3d m = solver.eigenvalues();
+  Eigen::Matrix3d axes = solver.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  // Uniform box: I1 = mass (b^2 + c^2) / 12 and so on; a^2 = 6 (I2 + I3 - I1) / mass.
+  for (int k = 0; k < 3; ++k) {
+    const double sq = 6.0 * (m.sum() - 2.0 * m(k)) / mass;
+    box.size[static_cast<std::size_t>(k)] = std::sqrt(std::max(sq, 1e-6));
+  }
+  const Eigen::Quaterniond q(axes);
+  box.frame = {q.w(), q.x(), q.y(), q.z()};
+  return box;
+}
+
+std::string scene_json(const SceneDescription& scene, std::uint64_t generation) {
+  std::string out = "{\"type\":\"scene\",\"generation\":";
+  integer(out, static_cast<std::int64_t>(generation));
+  out += ",\"name\":";
+  string(out, scene.scene_name);
+  out += ",\"dt\":";
+  number(out, scene.dt);
+  out += ",\"publish_every\":";
+  integer(out, scene.publish_every);
+  out += ",\"bodies\":[";
+  if (scene.lengths_agree()) {
+    for (std::size_t i = 0; i < scene.body_count(); ++i) {
+      if (i) out += ',';
+      out += "{\"id\":";
+      integer(out, scene.ids[i]);
+      out += ",\"name\":";
+      string(out, scene.names[i]);
+      out += ",\"mass\":";
+      number(out, scene.masses[i]);
+      const std::string_view shape = shape_name(scene.shape_kinds[i]);
+      if (!shape.empty()) {
+        out += ",\"shape\":";
+        string(out, shape);
+        out += ",\"dims\":";
+        numbers(out, &scene.shape_dims[3 * i], 3);
+      } else {
+        const MomentBox box = box_of_moments(scene.masses[i], &scene.inertia[6 * i]);
+        out += ",\"shape\":\"box\",\"from_moments\":true,\"dims\":";
+        numbers(out, box.size.data(), 3);
+        out += ",\"frame\":";
+        numbers(out, box.frame.data(), 4);
+      }
+      out += '}';
+    }
+  }
+  out += "]}";
+  return out;
+}
+
+std::string stats_json(const StatsReport& s) {
+  const RejectCounts& r = s.rejected;
+  const std::int64_t refused = r.non_finite + r.unknown_body + r.over_limit + r.undecodable +
+                               r.stale_sequence + r.queue_full + r.invalid + r.over_share +
+                               r.rate_limited + r.not_permitted;
+  std::string out = "{\"type\":\"stats\",\"tick\":";
+  integer(out, s.tick);
+  out += ",\"sim_time\":";
+  number(out, s.sim_time);
+  out += ",\"paused\":";
+  out += s.paused ? "true" : "false";
+  out += ",\"rtf\":";
+  number(out, s.rtf_last_second);
+  out += ",\"lateness_p99_us\":";
+  number(out, s.lateness_p99_us);
+  out += ",\"overruns\":";
+  integer(out, s.overruns);
+  out += ",\"refused\":";
+  integer(out, refused);
+  out += ",\"accepted\":";
+  integer(out, s.commands_accepted);
+  out += '}';
+  return out;
+}
+
+std::string hello_json(bool read_only, std::uint64_t connection) {
+  std::string out = "{\"type\":\"hello\",\"read_only\":";
+  out += read_only ? "true" : "false";
+  out += ",\"connection\":";
+  integer(out, static_cast<std::int64_t>(connection));
+  out += '}';
+  return out;
+}
+
+std::string reply_json(std::int64_t id, std::string_view op, bool ok, std::string_view outcome,
+                       std::int64_t tick, std::string_view message) {
+  std::string out = "{\"type\":\"reply\",\"id\":";
+  integer(out, id);
+  out += ",\"op\":";
+  string(out, op);
+  out += ",\"ok\":";
+  out += ok ? "true" : "false";
+  out += ",\"outcome\":";
+  string(out, outcome);
+  out += ",\"tick\":";
+  integer(out, tick);
+  out += ",\"message\":";
+  string(out, message);
+  out += '}';
+  return out;
+}
+
+std::string error_json(std::string_view message) {
+  std::string out = "{\"type\":\"error\",\"message\":";
+  string(out, message);
+  out += '}';
+  return out;
+}
+
+std::string_view op_name(Op op) {
+  switch (op) {
+    case Op::kPause:
+      return "pause";
+    case Op::kResume:
+      return "resume";
+    case Op::kStep:
+      return "step";
+    case Op::kReset:
+      return "reset";
+    case Op::kPush:
+      return "push";
+  }
+  return "?";
+}
+
+std::variant<PageCommand, std::string> parse_command(std::string_view text) {
+  if (text.size() > kMaxCommandBytes) return std::string("command longer than 512 bytes");
+  PageCommand c;
+  std::string_view op;
+  bool have_id = false, have_steps = false, have_body = false, have_force = false,
+       have_point = false;
+  Reader reader(text);
+  const std::string error = reader.object([&](std::string_view key, const Reader::Value& v) {
+    using K = Reader::Value::Kind;
+    if (key == "op") {
+      if (v.kind != K::kString) return std::string("op: expected a string");
+      op = v.text;
+    } else if (key == "id") {
+      if (v.kind != K::kNumber || !whole(v.num, 0, static_cast<double>(kMaxCommandId)))
+        return std::string("id: expected an integer in [0, 2^53]");
+      c.id = static_cast<std::int64_t>(v.num);
+      have_id = true;
+    } else if (key == "steps") {
+      if (v.kind != K::kNumber || !whole(v.num, 1, static_cast<double>(kMaxSteps)))
+        return std::string("steps: expected an integer in [1, 1000000]");
+      c.steps = static_cast<std::int64_t>(v.num);
+      have_steps = true;
+    } else if (key == "body") {
+      if (v.kind != K::kNumber || !whole(v.num, 0, 2147483647.0))
+        return std::string("body: expected a body id >= 0");
+      c.body = static_cast<std::int32_t>(v.num);
+      have_body = true;
+    } else if (key == "force" || key == "point") {
+      const double limit = key == "force" ? kMaxPushForce : kMaxPushPoint;
+      if (v.kind != K::kArray || v.array.size() != 3)
+        return std::string(key) + ": expected [x, y, z]";
+      rigid::Vec3& out = key == "force" ? c.force : c.point;
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (std::abs(v.array[k]) > limit)
+          return std::string(key) + ": component beyond " + (key == "force" ? "1e4" : "100");
+        out[k] = v.array[k];
+      }
+      (key == "force" ? have_force : have_point) = true;
+    } else {
+      return "unknown field " + std::string(key);
+    }
+    return std::string();
+  });
+  if (!error.empty()) return error;
+  if (op == "pause") {
+    c.op = Op::kPause;
+  } else if (op == "resume") {
+    c.op = Op::kResume;
+  } else if (op == "reset") {
+    c.op = Op::kReset;
+  } else if (op == "step") {
+    c.op = Op::kStep;
+    if (!have_steps) return std::string("step: missing steps");
+  } else if (op == "push") {
+    c.op = Op::kPush;
+    if (!have_body || !have_force || !have_point)
+      return std::string("push: needs body, force and point");
+    return c;
+  } else {
+    return op.empty() ? std::string("missing op") : "unknown op " + std::string(op);
+  }
+  if (!have_id) return std::string(op) + ": missing id";
+  if (have_body || have_force || have_point || (have_steps && c.op != Op::kStep))
+    return std::string(op) + ": unexpected field";
+  return c;
+}
+
+}  // namespace rigid::view

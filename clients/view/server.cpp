@@ -1,0 +1,380 @@
+#include "server.hpp"
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <deque>
+#include <fstream>
+#include <future>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace rigid::view {
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using namespace std::chrono_literals;
+
+constexpr std::size_t kMaxHttpSessions = 64;
+
+struct File {
+  std::string type;
+  std::string body;
+};
+
+// The page's files: URL path -> (file under the web directory, content type).
+constexpr std::array<std::array<const char*, 3>, 5> kFiles{{
+    {"/", "index.html", "text/html; charset=utf-8"},
+    {"/app.js", "app.js", "text/javascript; charset=utf-8"},
+    {"/three/three.module.js", "three/three.module.js", "text/javascript; charset=utf-8"},
+    {"/three/three.core.js", "three/three.core.js", "text/javascript; charset=utf-8"},
+    {"/three/OrbitControls.js", "three/OrbitControls.js", "text/javascript; charset=utf-8"},
+}};
+
+}  // namespace
+
+class Page;
+
+class ViewServer::Impl {
+ public:
+  ServerOptions options;
+  CommandHandler on_command;
+  Greeting greeting;
+  ServerCounts counts;
+  std::map<std::string, File, std::less<>> files;
+  net::io_context ioc{1};
+  tcp::acceptor acceptor{ioc};
+  std::thread thread;
+  std::set<std::shared_ptr<Page>> pages;  // server thread only
+  std::uint64_t next_page = 1;
+  std::shared_ptr<std::size_t> http_sessions = std::make_shared<std::size_t>(0);
+
+  void accept();
+};
+
+class Page : public std::enable_shared_from_this<Page> {
+ public:
+  Page(ViewServer::Impl& impl, tcp::socket socket, std::uint64_t id)
+      : impl_(impl), ws_(std::move(socket)), id_(id) {}
+
+  void accept(http::request<http::string_body> request) {
+    beast::get_lowest_layer(ws_).expires_never();
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxCommandBytes);
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (ec) return self->fail();
+      self->open_ = true;
+      ++self->impl_.counts.pages_connected;
+      self->send_text(std::make_shared<const std::string>(
+          hello_json(self->impl_.options.read_only, self->id_)));
+      if (self->impl_.greeting)
+        for (Bytes& b : self->impl_.greeting())
+          self->send_text(std::move(b));
+      self->read();
+    });
+  }
+
+  void send_text(Bytes text) {
+    if (closed_) return;
+    if (texts_.size() >= ViewServer::kMaxQueuedTexts) {
+      texts_.pop_front();
+      ++impl_.counts.texts_dropped;
+    }
+    texts_.push_back(std::move(text));
+    write_next();
+  }
+
+  void send_state(Bytes frame) {
+    if (closed_ || !open_) return;
+    if (state_) ++impl_.counts.states_dropped;
+    state_ = std::move(frame);
+    write_next();
+  }
+
+  void close() {
+    closed_ = true;
+    beast::error_code ec;
+    beast::get_lowest_layer(ws_).socket().close(ec);
+  }
+
+ private:
+  void read() {
+    ws_.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) {
+        if (ec == websocket::error::message_too_big) ++self->impl_.counts.frames_refused;
+        return self->fail();
+      }
+      self->on_frame();
+    });
+  }
+
+  void on_frame() {
+    const bool text = ws_.got_text();
+    const std::string frame = beast::buffers_to_string(in_.data());
+    in_.consume(in_.size());
+    if (!text) {
+      refuse("binary frames are not accepted");
+    } else {
+      auto parsed = parse_command(frame);
+      if (auto* error = std::get_if<std::string>(&parsed)) {
+        refuse(*error);
+      } else {
+        const PageCommand& c = std::get<PageCommand>(parsed);
+        if (impl_.options.read_only) {
+          ++impl_.counts.commands_refused;
+          send_text(std::make_shared<const std::string>(
+              reply_json(c.id, op_name(c.op), false, "refused", 0, "rigid-view runs --read-only")));
+        } else if (impl_.on_command) {
+          std::weak_ptr<Page> weak = shared_from_this();
+          net::io_context& ioc = impl_.ioc;
+          impl_.on_command(id_, c, [weak, &ioc](Bytes reply) {
+            net::post(ioc, [weak, reply = std::move(reply)]() mutable {
+              if (auto page = weak.lock()) page->send_text(std::move(reply));
+            });
+          });
+        }
+      }
+    }
+    if (bad_frames_ > ViewServer::kMaxBadFrames) {
+      ws_.async_close(websocket::close_code::policy_error,
+                      [self = shared_from_this()](beast::error_code) { self->fail(); });
+      return;
+    }
+    read();
+  }
+
+  void refuse(const std::string& why) {
+    ++bad_frames_;
+    ++impl_.counts.frames_refused;
+    send_text(std::make_shared<const std::string>(error_json(why)));
+  }
+
+  void write_next() {
+    if (writing_ || closed_ || !open_) return;
+    Bytes next;
+    bool text = false;
+    if (!texts_.empty()) {
+      next = std::move(texts_.front());
+      texts_.pop_front();
+      text = true;
+    } else if (state_) {
+      next = std::move(state_);
+      state_.reset();
+    } else {
+      return;
+    }
+    writing_ = true;
+    ws_.text(text);
+    ws_.async_write(net::buffer(*next),
+                    [self = shared_from_this(), next, text](beast::error_code ec, std::size_t) {
+                      self->writing_ = false;
+                      if (ec) return self->fail();
+                      if (!text) ++self->impl_.counts.states_sent;
+                      self->write_next();
+                    });
+  }
+
+  void fail() {
+    if (!closed_) close();
+    texts_.clear();
+    state_.reset();
+    impl_.pages.erase(shared_from_this());
+  }
+
+  ViewServer::Impl& impl_;
+  websocket::stream<beast::tcp_stream> ws_;
+  beast::flat_buffer in_;
+  std::uint64_t id_;
+  std::deque<Bytes> texts_;
+  Bytes state_;
+  bool writing_ = false;
+  bool open_ = false;
+  bool closed_ = false;
+  std::size_t bad_frames_ = 0;
+};
+
+namespace {
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(ViewServer::Impl& impl, tcp::socket socket)
+      : impl_(impl), stream_(std::move(socket)), buffer_(16 * 1024), count_(impl.http_sessions) {
+    ++*count_;
+  }
+  ~HttpSession() { --*count_; }
+
+  void run() {
+    parser_.emplace();
+    parser_->header_limit(8 * 1024);
+    parser_->body_limit(1024);
+    stream_.expires_after(10s);
+    http::async_read(
+        stream_, buffer_, *parser_,
+        [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+  }
+
+ private:
+  void on_read(beast::error_code ec) {
+    if (ec) {
+      if (ec != http::error::end_of_stream) ++impl_.counts.http_refused;
+      return;
+    }
+    http::request<http::string_body> req = parser_->release();
+    std::string_view target(req.target().data(), req.target().size());
+    if (const auto q = target.find('?'); q != std::string_view::npos) target = target.substr(0, q);
+    if (websocket::is_upgrade(req)) {
+      if (target != "/ws") return refuse(http::status::not_found, "no WebSocket here: use /ws");
+      const std::string_view origin(req[http::field::origin].data(),
+                                    req[http::field::origin].size());
+      const std::string_view host(req[http::field::host].data(), req[http::field::host].size());
+      if (!origin.empty() && origin != "http://" + std::string(host)) {
+        ++impl_.counts.connections_refused;
+        return refuse(http::status::forbidden, "a page from another origin may not connect");
+      }
+      if (impl_.pages.size() >= impl_.options.max_pages) {
+        ++impl_.counts.connections_refused;
+        return refuse(http::status::service_unavailable, "too many pages connected");
+      }
+      auto page = std::make_shared<Page>(impl_, stream_.release_socket(), impl_.next_page++);
+      impl_.pages.insert(page);
+      page->accept(std::move(req));
+      return;
+    }
+    if (req.method() != http::verb::get && req.method() != http::verb::head)
+      return refuse(http::status::method_not_allowed, "only GET");
+    const auto it = impl_.files.find(target);
+    if (it == impl_.files.end()) return refuse(http::status::not_found, "not found");
+    respond(http::status::ok, it->second.type, it->second.body, req.method() == http::verb::head);
+  }
+
+  void refuse(http::status status, std::string_view why) {
+    ++impl_.counts.http_refused;
+    respond(status, "text/plain; charset=utf-8", std::string(why) + "\n", false);
+  }
+
+  void respond(http::status status, const std::string& type, const std::string& body, bool head) {
+    res_.result(status);
+    res_.version(11);
+    res_.set(http::field::server, "rigid-view");
+    res_.set(http::field::content_type, type);
+    res_.set(http::field::cache_control, "no-store");
+    res_.set("X-Content-Type-Options", "nosniff");
+    res_.keep_alive(false);
+    res_.body() = head ? std::string() : body;
+    res_.prepare_payload();
+    if (head) res_.content_length(body.size());
+    http::async_write(stream_, res_, [self = shared_from_this()](beast::error_code, std::size_t) {
+      beast::error_code ignored;
+      self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    });
+  }
+
+  ViewServer::Impl& impl_;
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  http::response<http::string_body> res_;
+  std::shared_ptr<std::size_t> count_;
+};
+
+}  // namespace
+
+void ViewServer::Impl::accept() {
+  acceptor.async_accept(ioc, [this](beast::error_code ec, tcp::socket socket) {
+    if (ec == net::error::operation_aborted || !acceptor.is_open()) return;
+    if (!ec) {
+      if (*http_sessions >= kMaxHttpSessions) {
+        ++counts.connections_refused;
+        beast::error_code ignored;
+        socket.close(ignored);
+      } else {
+        std::make_shared<HttpSession>(*this, std::move(socket))->run();
+      }
+    }
+    accept();
+  });
+}
+
+ViewServer::ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->on_command = std::move(on_command);
+  impl_->greeting = std::move(greeting);
+  for (const auto& [url, name, type] : kFiles) {
+    const std::filesystem::path path = options.web_dir / name;
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream body;
+    if (!in || !(body << in.rdbuf()) || std::filesystem::file_size(path) > (64u << 20)) {
+      throw std::runtime_error("the page's file " + path.string() +
+                               " is missing or unreadable (--web-dir; three.js: npm ci in "
+                               "clients/view/web, then rebuild)");
+    }
+    impl_->files[url] = File{type, body.str()};
+  }
+  beast::error_code ec;
+  const auto address = net::ip::make_address(options.host, ec);
+  if (ec) throw std::runtime_error("--listen: not an IP address: " + options.host);
+  const tcp::endpoint endpoint(address, options.port);
+  auto& a = impl_->acceptor;
+  if (a.open(endpoint.protocol(), ec); !ec)
+    if (a.set_option(net::socket_base::reuse_address(true), ec); !ec)
+      if (a.bind(endpoint, ec); !ec) a.listen(net::socket_base::max_listen_connections, ec);
+  if (ec) {
+    throw std::runtime_error("cannot listen on " + options.host + ":" +
+                             std::to_string(options.port) + ": " + ec.message());
+  }
+}
+
+ViewServer::~ViewServer() {
+  stop();
+}
+
+std::uint16_t ViewServer::port() const {
+  return impl_->acceptor.local_endpoint().port();
+}
+
+void ViewServer::start() {
+  impl_->accept();
+  impl_->thread = std::thread([this] { impl_->ioc.run(); });
+}
+
+void ViewServer::stop() {
+  if (!impl_->thread.joinable()) return;
+  net::post(impl_->ioc, [impl = impl_.get()] {
+    beast::error_code ignored;
+    impl->acceptor.close(ignored);
+    for (const auto& page : impl->pages)
+      page->close();
+    impl->pages.clear();
+    impl->ioc.stop();
+  });
+  impl_->thread.join();
+}
+
+void ViewServer::broadcast_state(Bytes frame) {
+  net::post(impl_->ioc, [impl = impl_.get(), frame = std::move(frame)] {
+    for (const auto& page : impl->pages)
+      page->send_state(frame);
+  });
+}
+
+void ViewServer::broadcast_text(Bytes text) {
+  net::post(impl_->ioc, [impl = impl_.get(), text = std::move(text)] {
+    for (const auto& page : impl->pages)
+      page->send_text(text);
+  });
+}
+
+const ServerCounts& ViewServer::counts() const {
+  return impl_->counts;
+}
+
+}  // namespace rigid::view

@@ -1,0 +1,78 @@
+// rigid-view's HTTP and WebSocket server (Boost.Beast on one Asio thread): serves the page's few
+// files from memory (a fixed list, loaded at start) and one WebSocket per page at /ws.
+//
+// Each page connection has a "latest state" slot and a short queue of texts: a state that arrives
+// while the previous one is still being written replaces the one waiting (dropped, counted), so a
+// slow page gets fewer frames and never an unbounded queue. Texts (scene, stats, answers) queue up
+// to kMaxQueuedTexts; beyond that the oldest is dropped.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>  // before Asio: Boost 1.74's asio/awaitable.hpp needs std::exchange
+#include <vector>
+
+#include "protocol.hpp"
+
+namespace rigid::view {
+
+using Bytes = std::shared_ptr<const std::string>;
+
+struct ServerCounts {
+  std::atomic<std::int64_t> pages_connected{0};
+  std::atomic<std::int64_t> connections_refused{0};  // too many, bad origin
+  std::atomic<std::int64_t> http_refused{0};         // unknown path, method, bad request
+  std::atomic<std::int64_t> frames_refused{0};       // garbage, binary, huge, unknown commands
+  std::atomic<std::int64_t> commands_refused{0};     // --read-only, busy
+  std::atomic<std::int64_t> states_sent{0};
+  std::atomic<std::int64_t> states_dropped{0};  // replaced in a slow page's slot
+  std::atomic<std::int64_t> texts_dropped{0};
+};
+
+struct ServerOptions {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 8765;
+  bool read_only = false;
+  std::filesystem::path web_dir;
+  std::size_t max_pages = 16;
+};
+
+class ViewServer {
+ public:
+  static constexpr std::size_t kMaxQueuedTexts = 64;
+  static constexpr std::size_t kMaxBadFrames = 20;  // then the page is disconnected
+
+  // Called on the server thread for each valid command of a page (never with --read-only, except
+  // that push is refused there too). `reply` sends a text to that page only (any thread).
+  using CommandHandler = std::function<void(std::uint64_t page, const PageCommand& command,
+                                            std::function<void(Bytes)> reply)>;
+  // What a newly connected page gets first (scene, last stats), on the server thread.
+  using Greeting = std::function<std::vector<Bytes>()>;
+
+  // Loads the page's files and binds. Throws std::runtime_error (one line) on failure.
+  ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting);
+  ~ViewServer();
+  ViewServer(const ViewServer&) = delete;
+  ViewServer& operator=(const ViewServer&) = delete;
+
+  std::uint16_t port() const;
+  void start();  // the server thread
+  void stop();   // closes everything and joins
+  // Any thread.
+  void broadcast_state(Bytes frame);
+  void broadcast_text(Bytes text);
+  const ServerCounts& counts() const;
+
+  class Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rigid::view

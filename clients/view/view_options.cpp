@@ -1,0 +1,84 @@
+#include "view_options.hpp"
+
+#include <array>
+#include <charconv>
+
+namespace rigid::view {
+namespace {
+
+using clients::quoted;
+using clients::UsageError;
+
+constexpr std::array<std::string_view, 3> kFlags{"--help", "-h", "--read-only"};
+
+void parse_listen(std::string_view text, ViewOptions& o) {
+  const auto colon = text.rfind(':');
+  const std::string expected =
+      "--listen: expected ADDR:PORT (an IPv4 address, port 0-65535), got " + quoted(text);
+  if (colon == std::string_view::npos || colon == 0 || colon + 1 == text.size())
+    throw UsageError(expected);
+  const std::string_view host = text.substr(0, colon);
+  const std::string_view port = text.substr(colon + 1);
+  unsigned value = 0;
+  const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (ec != std::errc() || end != port.data() + port.size() || value > 65535)
+    throw UsageError(expected);
+  int dots = 0;
+  for (const char c : host) {
+    if (c == '.') {
+      ++dots;
+    } else if (c < '0' || c > '9') {
+      throw UsageError(expected);
+    }
+  }
+  if (dots != 3 || host.size() > 15) throw UsageError(expected);
+  o.host = std::string(host);
+  o.port = static_cast<std::uint16_t>(value);
+}
+
+}  // namespace
+
+ViewOptions parse_options(std::span<const std::string_view> args) {
+  ViewOptions o;
+  clients::ArgReader reader(args, kFlags);
+  while (const auto arg = reader.next()) {
+    if (arg->name == "--help" || arg->name == "-h") {
+      o.help = true;
+    } else if (arg->name == "--read-only") {
+      o.read_only = true;
+    } else if (arg->name == "--listen") {
+      parse_listen(arg->value, o);
+    } else if (arg->name == "--web-dir") {
+      if (arg->value.empty()) throw UsageError("--web-dir: expected a directory, got ''");
+      o.web_dir = std::string(arg->value);
+    } else if (arg->name.empty()) {
+      throw UsageError("unexpected argument " + quoted(arg->value) + " (see --help)");
+    } else if (!clients::parse_bus_option(*arg, o.bus)) {
+      throw UsageError("unknown option " + quoted(arg->name) + " (see --help)");
+    }
+  }
+  return o;
+}
+
+std::string usage() {
+  return std::string(
+             R"(usage: rigid-view [--listen ADDR:PORT] [--read-only] [--web-dir DIR] [bus options]
+
+Shows a running rigidd in a web browser: serves one page and a WebSocket on ADDR:PORT and prints
+its URL. The page draws the scene's bodies as they move, rigidd's Stats, and buttons for pause,
+resume, step N and reset (each shows rigidd's answer); drag a body with the left button held to
+push it. Keeps running when rigidd restarts.
+
+  --listen ADDR:PORT  where to serve (default 127.0.0.1:8765; port 0: any free port). An address
+                      other than loopback serves every host that can reach this one, with no
+                      authentication: a warning is printed
+  --read-only         refuse every command from the page (it only watches)
+  --web-dir DIR       the page's files (default: web/ next to the executable)
+)") + std::string(clients::bus_options_help());
+}
+
+bool listens_beyond_host(const std::string& host) {
+  return host.rfind("127.", 0) != 0;
+}
+
+}  // namespace rigid::view

@@ -1,0 +1,139 @@
+// rigid-view's WebSocket protocol: the page's commands checked (garbage, huge, unknown refused with
+// a reason) and the binary state frame laid out as the page reads it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <variant>
+
+#include "protocol.hpp"
+#include "view_options.hpp"
+
+namespace rigid::view {
+namespace {
+
+std::string refusal(std::string_view text) {
+  auto r = parse_command(text);
+  return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : std::string();
+}
+
+TEST(ViewProtocol, AcceptsTheControls) {
+  auto r = parse_command(R"({"op":"pause","id":7})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).op, Op::kPause);
+  EXPECT_EQ(std::get<PageCommand>(r).id, 7);
+  r = parse_command(R"( { "op" : "step", "id": 1, "steps": 25 } )");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).steps, 25);
+  r = parse_command(R"({"op":"push","body":3,"force":[1,-2.5,3e1],"point":[0,0,0.1]})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  const PageCommand c = std::get<PageCommand>(r);
+  EXPECT_EQ(c.body, 3);
+  EXPECT_EQ(c.force, (rigid::Vec3{1, -2.5, 30}));
+  EXPECT_EQ(c.point, (rigid::Vec3{0, 0, 0.1}));
+}
+
+TEST(ViewProtocol, RefusesGarbageWithAReason) {
+  EXPECT_EQ(refusal(""), "expected a JSON object");
+  EXPECT_EQ(refusal("\x01\xff garbage"), "expected a JSON object");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1} x)"), "trailing bytes after the object");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1)"), "expected ',' or '}'");
+  EXPECT_EQ(refusal(R"({"op":"launch","id":1})"), "unknown op launch");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1,"evil":2})"), "unknown field evil");
+  EXPECT_EQ(refusal(R"({"op":"pause"})"), "pause: missing id");
+  EXPECT_EQ(refusal(R"({"op":"step","id":1})"), "step: missing steps");
+  EXPECT_EQ(refusal(R"({"op":"step","id":1,"steps":0})"),
+            "steps: expected an integer in [1, 1000000]");
+  EXPECT_EQ(refusal(R"({"op":"step","id":1,"steps":1.5})"),
+            "steps: expected an integer in [1, 1000000]");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":-1})"), "id: expected an integer in [0, 2^53]");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1e400})"), "bad value of id");
+  EXPECT_EQ(refusal(R"({"op":"pa\"use","id":1})"), "bad string");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,2],"point":[0,0,0]})"),
+            "force: expected [x, y, z]");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,2,3,4],"point":[0,0,0]})"),
+            "bad array (at most 3 numbers)");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1e5,0,0],"point":[0,0,0]})"),
+            "force: component beyond 1e4");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,0,0]})"),
+            "push: needs body, force and point");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1,"steps":2})"), "pause: unexpected field");
+  EXPECT_EQ(refusal(R"({"id":1,"id":1,"id":1,"id":1,"id":1,"id":1,"id":1,"id":1,"id":1})"),
+            "too many fields");
+  EXPECT_EQ(refusal(R"({"op":{"nested":1}})"), "bad value of op");
+  EXPECT_EQ(refusal(std::string(600, ' ')), "command longer than 512 bytes");
+}
+
+TEST(ViewProtocol, StateFrameLayout) {
+  StateFrame s;
+  s.resize(2);
+  s.tick = 1234;
+  s.sim_time = 1.234;
+  s.ids = {5, 9};
+  s.position = {1, 2, 3, 4, 5, 6};
+  s.orientation = {1, 0, 0, 0, 0.5, 0.5, 0.5, 0.5};
+  const std::string f = encode_state(s, 3);
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * (7 * 8 + 4));
+  std::uint32_t u[4];
+  std::memcpy(u, f.data(), 16);
+  EXPECT_EQ(u[0], kStateMagic);
+  EXPECT_EQ(u[1], 2u);
+  EXPECT_EQ(u[2], 3u);
+  std::int64_t tick;
+  double t;
+  std::memcpy(&tick, f.data() + 16, 8);
+  std::memcpy(&t, f.data() + 24, 8);
+  EXPECT_EQ(tick, 1234);
+  EXPECT_EQ(t, 1.234);
+  double pos[6], ori[8];
+  std::int32_t ids[2];
+  std::memcpy(pos, f.data() + 32, sizeof pos);
+  std::memcpy(ori, f.data() + 32 + sizeof pos, sizeof ori);
+  std::memcpy(ids, f.data() + 32 + sizeof pos + sizeof ori, sizeof ids);
+  EXPECT_EQ(pos[4], 5);
+  EXPECT_EQ(ori[5], 0.5);
+  EXPECT_EQ(ids[1], 9);
+}
+
+TEST(ViewProtocol, SceneAndBoxOfMoments) {
+  const double inertia[6] = {0.1, 0.2, 0.25, 0, 0, 0};
+  const MomentBox box = box_of_moments(3, inertia);
+  // A uniform box of mass 3 with these moments: a^2 = 6 (Iyy + Izz - Ixx) / m.
+  const double a = std::sqrt(6 * (0.2 + 0.25 - 0.1) / 3), c = std::sqrt(6 * (0.1 + 0.2 - 0.25) / 3);
+  EXPECT_NEAR(box.size[0], a, 1e-12);
+  EXPECT_NEAR(box.size[2], c, 1e-12);
+  SceneDescription d;
+  d.scene_name = "a \"quoted\" scene";
+  d.ids = {0};
+  d.names = {"b"};
+  d.masses = {1};
+  d.inertia = {1, 1, 1, 0, 0, 0};
+  d.shape_kinds = {ShapeKind::kCapsule};
+  d.shape_dims = {0.1, 0.3, 0};
+  const std::string j = scene_json(d, 2);
+  EXPECT_NE(j.find(R"("name":"a \"quoted\" scene")"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("shape":"capsule","dims":[0.10000000000000001,0.29999999999999999,0])"),
+            std::string::npos)
+      << j;
+}
+
+TEST(ViewOptions, Listen) {
+  const std::string_view ok[] = {"--listen", "0.0.0.0:9000", "--read-only"};
+  const ViewOptions o = parse_options(ok);
+  EXPECT_EQ(o.host, "0.0.0.0");
+  EXPECT_EQ(o.port, 9000);
+  EXPECT_TRUE(o.read_only);
+  EXPECT_TRUE(listens_beyond_host(o.host));
+  EXPECT_FALSE(listens_beyond_host("127.0.0.1"));
+  for (const std::string_view bad :
+       {"localhost:80", "1.2.3.4:70000", "1.2.3.4:", ":80", "1.2.3.4"}) {
+    const std::string_view args[] = {"--listen", bad};
+    EXPECT_THROW(parse_options(args), clients::UsageError) << bad;
+  }
+  const std::string_view unknown[] = {"--frobnicate", "1"};
+  EXPECT_THROW(parse_options(unknown), clients::UsageError);
+}
+
+}  // namespace
+}  // namespace rigid::view
