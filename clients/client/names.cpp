@@ -4,6 +4,24 @@
 
 namespace rigid::client {
 
+std::string_view shape_name(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::kSphere:
+      return "sphere";
+    case ShapeKind::kBox:
+      return "box";
+    case ShapeKind::kCylinder:
+      return "cylinder";
+    case ShapeKind::kEllipsoid:
+      return "ellipsoid";
+    case ShapeKind::kCapsule:
+      return "capsule";
+    case ShapeKind::kNone:
+      break;
+  }
+  return "";
+}
+
 std::string_view control_name(ControlKind kind) {
   switch (kind) {
     case ControlKind::kPause:

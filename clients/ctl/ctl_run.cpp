@@ -26,6 +26,12 @@ using clients::kExitOk;
 using clients::kExitTimeout;
 using rigid::ControlKind;
 
+// The shape's name, "-" for none (a column of rigidctl bodies).
+std::string shape_or_dash(rigid::ShapeKind k) {
+  const std::string_view name = client::shape_name(k);
+  return name.empty() ? "-" : std::string(name);
+}
+
 [[gnu::format(printf, 1, 2)]] std::string fmt(const char* format, ...) {
   char buffer[512];
   va_list args;
@@ -40,24 +46,6 @@ std::string no_answer(const CtlOptions& o, const std::string& what) {
          fmt("%.3g", static_cast<double>(o.timeout.count()) / 1000.0) + " s on " +
          client::describe(o.bus) +
          " (is rigidd running, with the same --transport, --prefix and --dds-domain?)";
-}
-
-std::string_view shape_name(rigid::ShapeKind k) {
-  switch (k) {
-    case rigid::ShapeKind::kSphere:
-      return "sphere";
-    case rigid::ShapeKind::kBox:
-      return "box";
-    case rigid::ShapeKind::kCylinder:
-      return "cylinder";
-    case rigid::ShapeKind::kEllipsoid:
-      return "ellipsoid";
-    case rigid::ShapeKind::kCapsule:
-      return "capsule";
-    case rigid::ShapeKind::kNone:
-      break;
-  }
-  return "-";
 }
 
 std::string_view mode_name(rigid::Mode m) {
@@ -90,7 +78,7 @@ int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostrea
     const double* I = &s.inertia[6 * i];
     const double* d = &s.shape_dims[3 * i];
     out << fmt("%4d  %-16s %10.4g  %10.4g %10.4g %10.4g  %-9s", s.ids[i], s.names[i].c_str(),
-               s.masses[i], I[0], I[1], I[2], std::string(shape_name(s.shape_kinds[i])).c_str());
+               s.masses[i], I[0], I[1], I[2], shape_or_dash(s.shape_kinds[i]).c_str());
     if (s.shape_kinds[i] != rigid::ShapeKind::kNone) out << fmt(" %g %g %g", d[0], d[1], d[2]);
     out << '\n';
   }

@@ -19,6 +19,7 @@
 #include "record/mcap_writer.hpp"
 #include "records/log_records.hpp"
 #include "records/record_file.hpp"
+#include "rigid/client/names.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
 #include "util/atomic_file.hpp"
@@ -194,24 +195,6 @@ void add_shape(const rigid::SceneDescription& scene, std::size_t i, foxglove::Sc
   set_color(c->mutable_color(), i);
 }
 
-const char* shape_name(rigid::ShapeKind k) {
-  switch (k) {
-    case rigid::ShapeKind::kSphere:
-      return "sphere";
-    case rigid::ShapeKind::kBox:
-      return "box";
-    case rigid::ShapeKind::kCylinder:
-      return "cylinder";
-    case rigid::ShapeKind::kEllipsoid:
-      return "ellipsoid";
-    case rigid::ShapeKind::kCapsule:
-      return "capsule";
-    case rigid::ShapeKind::kNone:
-      break;
-  }
-  return "none (drawn as the box of its principal moments)";
-}
-
 struct Summary {
   std::int64_t states = 0;
   std::string note;
@@ -304,7 +287,9 @@ class FoxgloveOut {
       };
       meta("id", std::to_string(scene_desc_.ids[i]));
       meta("mass", std::to_string(scene_desc_.masses[i]));
-      meta("shape", shape_name(scene_desc_.shape_kinds[i]));
+      const std::string_view shape = client::shape_name(scene_desc_.shape_kinds[i]);
+      meta("shape",
+           shape.empty() ? "none (drawn as the box of its principal moments)" : std::string(shape));
       add_shape(scene_desc_, i, *e);
     }
     writer_.write(bodies_, seq_[bodies_]++, log_time, log_time, update.SerializeAsString());

@@ -8,6 +8,8 @@
 #include <cstring>
 #include <vector>
 
+#include "rigid/client/names.hpp"
+
 namespace rigid::view {
 namespace {
 
@@ -61,24 +63,6 @@ void numbers(std::string& out, const double* v, std::size_t n) {
     number(out, v[i]);
   }
   out += ']';
-}
-
-std::string_view shape_name(ShapeKind k) {
-  switch (k) {
-    case ShapeKind::kSphere:
-      return "sphere";
-    case ShapeKind::kBox:
-      return "box";
-    case ShapeKind::kCylinder:
-      return "cylinder";
-    case ShapeKind::kEllipsoid:
-      return "ellipsoid";
-    case ShapeKind::kCapsule:
-      return "capsule";
-    case ShapeKind::kNone:
-      break;
-  }
-  return "";
 }
 
 // A strict reader of one flat JSON object: string keys and values without escapes, numbers,
@@ -244,7 +228,7 @@ std::string scene_json(const SceneDescription& scene, std::uint64_t generation) 
       string(out, scene.names[i]);
       out += ",\"mass\":";
       number(out, scene.masses[i]);
-      const std::string_view shape = shape_name(scene.shape_kinds[i]);
+      const std::string_view shape = client::shape_name(scene.shape_kinds[i]);
       if (!shape.empty()) {
         out += ",\"shape\":";
         string(out, shape);

@@ -17,6 +17,7 @@
 
 #include "bindings.hpp"
 #include "common.hpp"
+#include "rigid/client/names.hpp"
 #include "session_api.hpp"
 
 namespace rigid::python {
@@ -178,24 +179,6 @@ class PyStateStream {
   std::string bus_;
 };
 
-const char* shape_name(rigid::ShapeKind k) {
-  switch (k) {
-    case rigid::ShapeKind::kSphere:
-      return "sphere";
-    case rigid::ShapeKind::kBox:
-      return "box";
-    case rigid::ShapeKind::kCylinder:
-      return "cylinder";
-    case rigid::ShapeKind::kEllipsoid:
-      return "ellipsoid";
-    case rigid::ShapeKind::kCapsule:
-      return "capsule";
-    case rigid::ShapeKind::kNone:
-      break;
-  }
-  return "";
-}
-
 const char* mode_name(rigid::Mode m) {
   switch (m) {
     case rigid::Mode::kRealtime:
@@ -260,7 +243,7 @@ py::dict scene_dict(const SceneDescription& s) {
     b["inertia"] =
         py::make_tuple(py::make_tuple(I[0], I[3], I[4]), py::make_tuple(I[3], I[1], I[5]),
                        py::make_tuple(I[4], I[5], I[2]));
-    b["shape"] = shape_name(s.shape_kinds[i]);
+    b["shape"] = std::string(rigid::client::shape_name(s.shape_kinds[i]));
     b["dims"] =
         py::make_tuple(s.shape_dims[3 * i], s.shape_dims[3 * i + 1], s.shape_dims[3 * i + 2]);
     bodies.append(b);

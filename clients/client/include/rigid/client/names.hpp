@@ -15,6 +15,8 @@ namespace rigid::client {
 std::string_view control_name(ControlKind kind);
 // "ok", "invalid", "not allowed", "failed".
 std::string_view outcome_name(Outcome outcome);
+// "sphere", "box", "cylinder", "ellipsoid", "capsule"; "" for none (or an unknown value).
+std::string_view shape_name(ShapeKind kind);
 
 // The id of body `name_or_id` in `scene` (a name, or a number that is an id); nothing if unknown.
 std::optional<std::int32_t> find_body(const SceneDescription& scene, std::string_view name_or_id);
