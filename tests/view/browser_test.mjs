@@ -8,11 +8,14 @@ import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
 const [rigidd, rigidView, rigidctl, sceneFile, outDir] = process.argv.slice(2);
 const prefix = `viewtest${process.pid}`;
-const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || "file:///work/main/config/cyclonedds.xml" };
+// ctest sets CYCLONEDDS_URI; by hand, the source tree's loopback config (two levels up).
+const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
+const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || `file://${loopbackConfig}` };
 const bus = ['--transport', 'dds', '--prefix', prefix];
 const children = [];
 let browser = null;
