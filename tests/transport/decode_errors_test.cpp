@@ -3,6 +3,7 @@
 // corruption of valid payloads on both codecs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -140,6 +141,29 @@ TEST(LcmDecode, ForgedStringLengthsAreRejected) {
   // The right length, but the terminator is not NUL.
   bytes = valid;
   bytes[kWrenchBodyNameLength + 4 + 3] = 'x';
+  EXPECT_EQ(codec.decode(bytes, out), DecodeStatus::kMalformed);
+  // A NUL inside the string ("a\0m"): lcm-gen's encoder would cut it at "a", so it could not be
+  // sent on as it came (the fuzzer found one in Stats' refused_sender).
+  bytes = valid;
+  bytes[kWrenchBodyNameLength + 4 + 1] = 0;
+  EXPECT_EQ(codec.decode(bytes, out), DecodeStatus::kMalformed);
+}
+
+TEST(LcmDecode, AStatsReportWithANulInASenderIsMalformed) {
+  lcm::Codec codec;
+  StatsReport stats;
+  stats.refused_by_source.push_back({"alice", 3, "rate"});
+  const Bytes valid = encode(codec, stats);
+  ASSERT_FALSE(valid.empty());
+  StatsReport out;
+  ASSERT_EQ(codec.decode(valid, out), DecodeStatus::kOk);
+  ASSERT_EQ(out.refused_by_source.at(0).sender, "alice");
+  // "alice" with its terminator is 6 bytes: the only such run in the payload.
+  const Bytes alice{'a', 'l', 'i', 'c', 'e', 0};
+  const auto at = std::search(valid.begin(), valid.end(), alice.begin(), alice.end());
+  ASSERT_NE(at, valid.end());
+  Bytes bytes = valid;
+  bytes[static_cast<std::size_t>(at - valid.begin()) + 2] = 0;
   EXPECT_EQ(codec.decode(bytes, out), DecodeStatus::kMalformed);
 }
 

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstring>
 
 namespace rigid::transport::lcm {
 namespace {
@@ -77,6 +78,12 @@ DecodeStatus check_layout(std::span<const std::uint8_t> payload, std::int64_t fi
         if (length < 1) return DecodeStatus::kMalformed;
         if (static_cast<std::size_t>(length) > size - pos) return DecodeStatus::kTruncated;
         if (data[pos + static_cast<std::size_t>(length) - 1] != 0) return DecodeStatus::kMalformed;
+        // Nor a NUL before it: LCM strings are C strings. lcm-gen's decoder would keep the bytes
+        // after an embedded NUL and its encoder drop them, so the message could not be sent on
+        // (or recorded and replayed) as it arrived.
+        if (std::memchr(data + pos, 0, static_cast<std::size_t>(length) - 1) != nullptr) {
+          return DecodeStatus::kMalformed;
+        }
         pos += static_cast<std::size_t>(length);
       }
     } else {
