@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <span>
 
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
@@ -91,6 +92,24 @@ bool pin(std::thread::native_handle_type thread, int cpu) {
   return pthread_setaffinity_np(thread, sizeof set, &set) == 0;
 }
 
+// Every CPU this process may use but `cpu`, for the physics pool's workers (World::set_threads).
+// The loop thread is the pool's first thread and runs at SCHED_FIFO on `cpu`: a worker there
+// would only get that CPU once the loop blocks at the pool's closing barrier, so its share would
+// run after the loop's instead of beside it (and behind the FIFO publishers too). Elsewhere the
+// workers leave the loop's CPU to the loop and its publishers, as with one thread. Leaves them
+// where they are when `cpu` is the only CPU. The number of CPUs the workers got.
+int keep_off(std::span<const std::thread::native_handle_type> workers, int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return 0;
+  CPU_CLR(cpu, &set);
+  const int others = CPU_COUNT(&set);
+  if (others == 0) return 0;
+  for (const std::thread::native_handle_type w : workers)
+    (void)pthread_setaffinity_np(w, sizeof set, &set);
+  return others;
+}
+
 std::size_t bus_index(rigid::Bus bus) {
   return bus == rigid::Bus::kDds ? 0 : 1;
 }
@@ -172,6 +191,10 @@ void Server::set_priorities() {
   }
   for (auto& p : publishers_)
     (void)pin(p->native_handle(), loop_cpu_);
+  // The step's other threads run at normal priority on the other CPUs: between steps they sleep
+  // on the pool's barrier, and the loop's CPU keeps no more than the loop and its publishers.
+  const auto workers = loop_.world().worker_threads();
+  const int worker_cpus = workers.empty() ? 0 : keep_off(workers, loop_cpu_);
   sched_param param{};
   param.sched_priority = options_.fifo_priority;
   const int error = pthread_setschedparam(loop_thread_.native_handle(), SCHED_FIFO, &param);
@@ -190,7 +213,11 @@ void Server::set_priorities() {
   log_.line("loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority) +
             (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : "") +
             ", on CPU " + std::to_string(loop_cpu_) +
-            " (the real-time threads never take more than this CPU)");
+            " (the real-time threads never take more than this CPU)" +
+            (workers.empty() ? ""
+                             : "; " + std::to_string(workers.size()) +
+                                   " physics worker(s) at normal priority on the " +
+                                   std::to_string(worker_cpus) + " other CPU(s)"));
 }
 
 void Server::stop() {

@@ -113,6 +113,9 @@ struct AxiGroup : Group {
   std::vector<DiagRot> rot;
   std::vector<AxisymPlan> plan;
   std::vector<std::uint8_t> plan_ok;
+  // Cold, read only at the API's edges: the rotation from P to B. Kept per entry (it moves with
+  // the body when the runs regroup) and only by the models whose P is not B.
+  std::vector<Quat> q_BP;
 };
 
 struct GenGroup : Group {
@@ -123,6 +126,7 @@ struct GenGroup : Group {
   std::vector<std::uint8_t> plan_ok;
   // The last step's end-of-step frame quaternion, the next step's start: see advance_rotor.
   std::vector<Quat> axis;
+  std::vector<Quat> q_BP;  // as AxiGroup::q_BP
 };
 
 // A composition of a symmetric second-order step into a fourth-order one: stage sizes c_i h.

@@ -4,8 +4,11 @@ namespace rigid::physics::detail {
 
 Pool::Pool(int threads) : size_(threads), start_(threads), done_(threads) {
   workers_.reserve(static_cast<std::size_t>(threads - 1));
-  for (int k = 1; k < threads; ++k)
+  handles_.reserve(static_cast<std::size_t>(threads - 1));
+  for (int k = 1; k < threads; ++k) {
     workers_.emplace_back([this, k] { work(k); });
+    handles_.push_back(workers_.back().native_handle());
+  }
 }
 
 Pool::~Pool() {

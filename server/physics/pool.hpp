@@ -22,6 +22,9 @@ class Pool {
 
   int size() const { return size_; }
   void run(Job job, void* ctx);
+  // The workers' native handles (k = 1 .. size - 1), so that a caller can place them (rigidd keeps
+  // them off the CPU its real-time loop is pinned to).
+  const std::vector<std::thread::native_handle_type>& worker_handles() const { return handles_; }
 
  private:
   void work(int k);
@@ -31,6 +34,7 @@ class Pool {
   void* ctx_ = nullptr;
   bool stop_ = false;
   std::vector<std::thread> workers_;
+  std::vector<std::thread::native_handle_type> handles_;
 };
 
 }  // namespace rigid::physics::detail

@@ -87,18 +87,29 @@ struct World::Impl {
   const IntegratorInfo* integrator = nullptr;
   std::int64_t steps = 0;
   Model model;
-  std::vector<Slot> slot;         // by body id
-  std::vector<Vec3> moments;      // principal moments by id (P frame of the model)
-  std::vector<Quat> q_BP;         // by id
-  std::vector<Loads> base_loads;  // the spec's loads by id, in P
-  std::vector<Vec3> pending_J;    // impulses waiting for the next step, by id (W)
-  std::vector<Vec3> pending_L;    // their angular momentum about the centre of mass (W)
-  std::vector<int> pending;       // ids with a pending impulse (capacity reserved: no allocation)
-  std::unordered_map<std::string, int> by_name;
-  // The guard (see World::frozen_bodies): each body's last state that passed the check, its
-  // translational parameters before any freeze (for reset), and who is frozen.
+  // Hot (what a step reads) lives in `model`; what follows is cold, read by the API, reset and
+  // the guard. Per body it is kept to what cannot be derived again from the spec: a world of 10^6
+  // bodies pays for every byte here a million times (bench/memory_bench.cpp).
+  std::vector<Slot> slot;  // by body id (q_BP: in the groups whose P is not B, see rot_BP)
+  // The spec's loads, in P, of the bodies that have any (or angular drag, which Loads flags):
+  // ascending ids and their loads. Most bodies have none, and a dense copy cost 176 B each.
+  std::vector<int> base_ids;
+  std::vector<Loads> base_values;
+  // Impulses waiting for the next step: per body the index of its entry in `pending` or -1, the
+  // entries in order of arrival (capacity reserved for every body, so that apply_impulse never
+  // allocates; untouched capacity is never resident).
+  struct Pending {
+    int id = 0;
+    Vec3 J = Vec3::Zero();  // impulse (W)
+    Vec3 L = Vec3::Zero();  // its angular momentum about the centre of mass (W)
+  };
+  std::vector<int> pending_slot;
+  std::vector<Pending> pending;
+  // Body ids in ascending order of name, for find_body (a hash map of the names cost ~70 B a body).
+  std::vector<int> by_name;
+  // The guard (see World::frozen_bodies): each body's last state that passed the check, and who
+  // is frozen (its translational parameters before the freeze come back from the spec: linear_of).
   std::vector<Motion> last_good;
-  std::vector<Linear> linear0;
   std::vector<std::uint8_t> frozen;
   std::vector<int> frozen_ids;  // capacity reserved: no allocation
   // Bodies whose loads may have moved them between the quiet and the loaded run of their group
@@ -123,6 +134,20 @@ struct World::Impl {
   } pool;
 
   void compile();
+  // The translational parameters of body id as its spec gives them (g, 1/m, drag and its row).
+  Linear linear_of(int id) const;
+  const Loads& base_load(int id) const {
+    static const Loads kNone{};
+    const auto it = std::lower_bound(base_ids.begin(), base_ids.end(), id);
+    return it != base_ids.end() && *it == id ? base_values[it - base_ids.begin()] : kNone;
+  }
+  // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
+  Quat rot_BP(int id) const {
+    const Slot& s = slot[id];
+    if (s.model == BodyModel::kAxisymmetric) return model.axi.q_BP[s.index];
+    if (s.model == BodyModel::kGeneral) return model.gen.q_BP[s.index];
+    return Quat::Identity();
+  }
   void set_threads(int n);
   void plan_shares(int used);
   void run_share(detail::Share& sh);
@@ -224,13 +249,26 @@ void World::Impl::compile() {
     throw SpecError(-1, "integrator",
                     "world: unknown integrator '" + spec.integrator + "' (known: " + names + ")");
   }
+  // Names sorted (ties by id): the first body whose name an earlier body has is the duplicate
+  // reported, after the bodies before it were validated, as a scan in scene order would.
+  by_name.resize(n);
+  for (int i = 0; i < n; ++i)
+    by_name[i] = i;
+  std::sort(by_name.begin(), by_name.end(), [&](int a, int b) {
+    const int c = spec.bodies[a].name.compare(spec.bodies[b].name);
+    return c < 0 || (c == 0 && a < b);
+  });
+  int duplicate = n;
+  for (int k = 1; k < n; ++k) {
+    if (spec.bodies[by_name[k]].name == spec.bodies[by_name[k - 1]].name) {
+      duplicate = std::min(duplicate, by_name[k]);
+    }
+  }
   for (int i = 0; i < n; ++i) {
     BodySpec& b = spec.bodies[i];
     validate_body(b, i);
     b.q_WB.normalize();
-    if (!by_name.emplace(b.name, i).second) {
-      throw SpecError(i, "name", "body '" + b.name + "': duplicate name");
-    }
+    if (i == duplicate) throw SpecError(i, "name", "body '" + b.name + "': duplicate name");
   }
   for (int k = 0; k < static_cast<int>(spec.loads.size()); ++k) {
     const LoadSpec& l = spec.loads[k];
@@ -250,11 +288,7 @@ void World::Impl::compile() {
   model.dt = spec.dt;
   model.trans.gamma.push_back(0.0);
   slot.assign(n, Slot{});
-  moments.assign(n, Vec3::Zero());
-  q_BP.assign(n, Quat::Identity());
-  base_loads.assign(n, Loads{});
-  pending_J.assign(n, Vec3::Zero());
-  pending_L.assign(n, Vec3::Zero());
+  pending_slot.assign(n, -1);
   pending.clear();
   pending.reserve(n);
   std::unordered_map<double, int> drag_row{{0.0, 0}};
@@ -315,11 +349,7 @@ void World::Impl::compile() {
       diag.inv_I = I.cwiseInverse();
       diag.k = b.angular_drag;
     }
-    q_BP[i] = pi.q_BP.normalized();
-    moments[i] = kind == BodyModel::kIsotropic && iso.inv_I > 0 ? Vec3::Constant(1.0 / iso.inv_I)
-                 : kind == BodyModel::kPoint                    ? Vec3::Zero()
-                 : kind == BodyModel::kIsotropic                ? I
-                                                                : diag.I;
+    const Quat q_BP = pi.q_BP.normalized();  // the identity for point and isotropic bodies
 
     Linear lin;
     if (!b.kinematic) {
@@ -352,6 +382,7 @@ void World::Impl::compile() {
         model.axi.rot.push_back(diag);
         model.axi.plan.emplace_back();
         model.axi.plan_ok.push_back(0);
+        model.axi.q_BP.push_back(q_BP);
         break;
       case BodyModel::kGeneral:
         model.gen.rot.push_back(diag);
@@ -359,6 +390,7 @@ void World::Impl::compile() {
         model.gen.plan.emplace_back();
         model.gen.plan_ok.push_back(0);
         model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
+        model.gen.q_BP.push_back(q_BP);
         break;
     }
     BodyState s{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB};
@@ -367,18 +399,32 @@ void World::Impl::compile() {
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
 
-  for (int i = 0; i < n; ++i) {
+  const auto has_drag = [&](int i) {
     const BodySpec& b = spec.bodies[i];
-    if (b.angular_drag > 0.0 && !b.kinematic && slot[i].model != BodyModel::kPoint) {
-      base_loads[i].flags |= Loads::kAngularDrag;
-    }
+    return b.angular_drag > 0.0 && !b.kinematic && slot[i].model != BodyModel::kPoint;
+  };
+  base_ids.clear();
+  for (int i = 0; i < n; ++i) {
+    if (has_drag(i)) base_ids.push_back(i);
+  }
+  for (const LoadSpec& l : spec.loads) {
+    if (!spec.bodies[l.body].kinematic) base_ids.push_back(l.body);
+  }
+  std::sort(base_ids.begin(), base_ids.end());
+  base_ids.erase(std::unique(base_ids.begin(), base_ids.end()), base_ids.end());
+  base_values.assign(base_ids.size(), Loads{});
+  const auto base_of = [&](int id) -> Loads& {
+    return base_values[std::lower_bound(base_ids.begin(), base_ids.end(), id) - base_ids.begin()];
+  };
+  for (int i : base_ids) {
+    if (has_drag(i)) base_of(i).flags |= Loads::kAngularDrag;
   }
   for (const LoadSpec& l : spec.loads) {
     const BodySpec& b = spec.bodies[l.body];
     if (b.kinematic) continue;  // a kinematic body ignores every force
-    const Quat q_PB = q_BP[l.body].conjugate();
+    const Quat q_PB = rot_BP(l.body).conjugate();
     const Vec3 r_P = q_PB * l.p_BoQ_B;
-    Loads& L = base_loads[l.body];
+    Loads& L = base_of(l.body);
     if (!l.force.isZero(0)) {
       L.add_force(l.frame == Frame::kBody ? Vec3(q_PB * l.force) : l.force, r_P,
                   l.frame == Frame::kBody);
@@ -388,14 +434,11 @@ void World::Impl::compile() {
                    l.torque_frame == Frame::kBody);
     }
   }
-  for (int i = 0; i < n; ++i)
-    loads(i) = base_loads[i];
+  for (std::size_t k = 0; k < base_ids.size(); ++k)
+    loads(base_ids[k]) = base_values[k];
   last_good.resize(n);
-  linear0.resize(n);
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i)
     last_good[i] = motion(i);
-    linear0[i] = linear(i);
-  }
   frozen.assign(n, 0);
   frozen_ids.clear();
   frozen_ids.reserve(n);
@@ -405,6 +448,22 @@ void World::Impl::compile() {
   for (int i = 0; i < n; ++i)
     place(i);
   set_threads(spec.threads);
+}
+
+Linear World::Impl::linear_of(int id) const {
+  const BodySpec& b = spec.bodies[id];
+  Linear lin;
+  if (b.kinematic) return lin;
+  for (int a = 0; a < 3; ++a) {
+    if (b.freeze_translation[a]) continue;
+    lin.inv_m[a] = 1.0 / b.mass;
+    if (b.use_gravity) lin.g[a] = spec.g_W[a];
+  }
+  lin.gamma = b.linear_drag / b.mass;
+  // The row compile() gave this rate: the first with an equal one (rows are distinct rates).
+  const auto& rates = model.trans.gamma;
+  lin.drag = static_cast<int>(std::find(rates.begin(), rates.end(), lin.gamma) - rates.begin());
+  return lin;
 }
 
 void World::Impl::swap_entries(BodyModel kind, int a, int b) {
@@ -422,11 +481,11 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
       sw(model.iso.rot), sw(model.iso.dq), sw(model.iso.dq_ok);
       break;
     case BodyModel::kAxisymmetric:
-      sw(model.axi.rot), sw(model.axi.plan), sw(model.axi.plan_ok);
+      sw(model.axi.rot), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
       break;
     case BodyModel::kGeneral:
       sw(model.gen.rot), sw(model.gen.rotor), sw(model.gen.plan), sw(model.gen.plan_ok);
-      sw(model.gen.axis);
+      sw(model.gen.axis), sw(model.gen.q_BP);
       break;
   }
   slot[g.id[a]].index = a;
@@ -556,8 +615,10 @@ void World::Impl::freeze(int id) {
   const bool was_quiet = loads(id).quiet();
   loads(id) = Loads{};
   loads_changed(id, was_quiet);
-  pending_J[id].setZero();
-  pending_L[id].setZero();
+  if (pending_slot[id] >= 0) {
+    pending[pending_slot[id]].J.setZero();
+    pending[pending_slot[id]].L.setZero();
+  }
   invalidate_cache(id);
   frozen[id] = 1;
   frozen_ids.push_back(id);  // within the reserved capacity
@@ -566,7 +627,7 @@ void World::Impl::freeze(int id) {
 void World::Impl::thaw_all() {
   for (int id : frozen_ids) {
     const Slot& s = slot[id];
-    group(s.model).linear[s.index] = linear0[id];
+    group(s.model).linear[s.index] = linear_of(id);
     frozen[id] = 0;
   }
   frozen_ids.clear();
@@ -609,7 +670,7 @@ void World::Impl::set_state(int id, const BodyState& st) {
     m.q = st.q_WB.normalized();
     m.spin.setZero();
   } else {
-    m.q = (st.q_WB.normalized() * q_BP[id]).normalized();
+    m.q = (st.q_WB.normalized() * rot_BP(id)).normalized();
     const Vec3 w_P = m.q.conjugate() * st.w_WB;
     switch (s.model) {
       case BodyModel::kIsotropic: {
@@ -631,12 +692,13 @@ void World::Impl::set_state(int id, const BodyState& st) {
 }
 
 void World::Impl::apply_pending_impulses() {
-  for (int id : pending) {
+  for (const Pending& p : pending) {
+    const int id = p.id;
     const Slot& s = slot[id];
     Group& g = group(s.model);
     Motion& m = g.motion[s.index];
-    m.v += g.linear[s.index].inv_m.cwiseProduct(pending_J[id]);
-    const Vec3 dL_P = m.q.conjugate() * pending_L[id];
+    m.v += g.linear[s.index].inv_m.cwiseProduct(p.J);
+    const Vec3 dL_P = m.q.conjugate() * p.L;
     switch (s.model) {
       case BodyModel::kIsotropic:
         m.spin += model.iso.rot[s.index].spin_rate(dL_P);
@@ -651,8 +713,7 @@ void World::Impl::apply_pending_impulses() {
         break;
     }
     invalidate_cache(id);
-    pending_J[id].setZero();
-    pending_L[id].setZero();
+    pending_slot[id] = -1;
   }
   pending.clear();
 }
@@ -742,6 +803,10 @@ void World::set_threads(int n) {
 int World::threads() const {
   return impl_->threads;
 }
+std::span<const std::thread::native_handle_type> World::worker_threads() const {
+  if (!impl_->pool.pool) return {};
+  return impl_->pool.pool->worker_handles();
+}
 
 double World::dt() const {
   return impl_->model.dt;
@@ -763,8 +828,11 @@ int World::body_count() const {
 }
 
 int World::find_body(std::string_view name) const {
-  const auto it = impl_->by_name.find(std::string(name));
-  return it == impl_->by_name.end() ? -1 : it->second;
+  const Impl& w = *impl_;
+  const auto it =
+      std::lower_bound(w.by_name.begin(), w.by_name.end(), name,
+                       [&](int id, std::string_view n) { return w.spec.bodies[id].name < n; });
+  return it != w.by_name.end() && w.spec.bodies[*it].name == name ? *it : -1;
 }
 
 const BodySpec& World::body_spec(int id) const {
@@ -777,11 +845,27 @@ BodyModel World::body_model(int id) const {
 }
 Vec3 World::principal_moments(int id) const {
   impl_->check_id(id);
-  return impl_->moments[id];
+  // Not stored: the model's own moments, or the spec's for a kinematic body (no inertia in use).
+  const Impl& w = *impl_;
+  const Slot& s = w.slot[id];
+  switch (s.model) {
+    case BodyModel::kPoint:
+      break;
+    case BodyModel::kIsotropic: {
+      const double inv_I = w.model.iso.rot[s.index].inv_I;
+      return inv_I > 0 ? Vec3::Constant(1.0 / inv_I)
+                       : principal_inertia(w.spec.bodies[id].I_B).moments;
+    }
+    case BodyModel::kAxisymmetric:
+      return w.model.axi.rot[s.index].I;
+    case BodyModel::kGeneral:
+      return w.model.gen.rot[s.index].I;
+  }
+  return Vec3::Zero();
 }
 Quat World::q_BP(int id) const {
   impl_->check_id(id);
-  return impl_->q_BP[id];
+  return impl_->rot_BP(id);
 }
 
 BodyState World::state(int id) const {
@@ -794,7 +878,7 @@ BodyState World::state(int id) const {
     s.q_WB = m.q;
     s.w_WB.setZero();
   } else {
-    s.q_WB = m.q * impl_->q_BP[id].conjugate();
+    s.q_WB = m.q * impl_->rot_BP(id).conjugate();
     s.w_WB = m.q * impl_->omega_P(id);
   }
   return s;
@@ -818,9 +902,9 @@ void World::reset() {
   for (int i = 0; i < body_count(); ++i) {
     const BodySpec& b = w.spec.bodies[i];
     w.set_state(i, BodyState{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB});
-    w.pending_J[i].setZero();
-    w.pending_L[i].setZero();
   }
+  for (const Impl::Pending& p : w.pending)
+    w.pending_slot[p.id] = -1;
   w.pending.clear();
   clear_applied();
   for (int i = 0; i < body_count(); ++i)
@@ -829,9 +913,13 @@ void World::reset() {
 
 void World::clear_applied() {
   Impl& w = *impl_;
+  static const Loads kNone{};
+  std::size_t k = 0;  // walks base_ids, ascending like i
   for (int i = 0; i < body_count(); ++i) {
+    const bool has_base = k < w.base_ids.size() && w.base_ids[k] == i;
+    const Loads& base = has_base ? w.base_values[k++] : kNone;
     const bool was_quiet = w.loads(i).quiet();
-    w.loads(i) = w.frozen[i] ? Loads{} : w.base_loads[i];
+    w.loads(i) = w.frozen[i] ? Loads{} : base;
     w.loads_changed(i, was_quiet);
   }
 }
@@ -839,7 +927,7 @@ void World::clear_applied() {
 void World::clear_applied(int id) {
   impl_->check_id(id);
   const bool was_quiet = impl_->loads(id).quiet();
-  impl_->loads(id) = impl_->frozen[id] ? Loads{} : impl_->base_loads[id];
+  impl_->loads(id) = impl_->frozen[id] ? Loads{} : impl_->base_load(id);
   impl_->loads_changed(id, was_quiet);
 }
 
@@ -855,7 +943,7 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
-  const Quat q_PB = w.q_BP[id].conjugate();
+  const Quat q_PB = w.rot_BP(id).conjugate();
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.loads(id).quiet();
   w.loads(id).add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
@@ -868,7 +956,7 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.loads(id).quiet();
-  w.loads(id).add_torque(body ? Vec3(w.q_BP[id].conjugate() * tau) : tau, body);
+  w.loads(id).add_torque(body ? Vec3(w.rot_BP(id).conjugate() * tau) : tau, body);
   w.loads_changed(id, was_quiet);
 }
 
@@ -879,9 +967,13 @@ void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame fram
   const BodyState s = state(id);
   const Vec3 J_W = frame == Frame::kBody ? Vec3(s.q_WB * J) : J;
   const Vec3 r_W = s.q_WB * p_BoQ_B;
-  if (w.pending_J[id].isZero(0) && w.pending_L[id].isZero(0)) w.pending.push_back(id);
-  w.pending_J[id] += J_W;
-  w.pending_L[id] += r_W.cross(J_W);
+  if (w.pending_slot[id] < 0) {
+    w.pending_slot[id] = static_cast<int>(w.pending.size());
+    w.pending.push_back(Impl::Pending{id, Vec3::Zero(), Vec3::Zero()});  // within the capacity
+  }
+  Impl::Pending& p = w.pending[w.pending_slot[id]];
+  p.J += J_W;
+  p.L += r_W.cross(J_W);
 }
 
 double World::kinetic_energy(int id) const {

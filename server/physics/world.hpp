@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <thread>
 
 #include "physics/integrator.hpp"
 #include "physics/spec.hpp"
@@ -79,6 +80,10 @@ class World {
   static constexpr int kMinBodiesPerThread = 256;
   void set_threads(int n);
   int threads() const;
+  // The pool's worker threads (threads() - 1 of them; the caller of step() is the first thread),
+  // for a caller that places threads on CPUs. Empty for one thread. set_threads and copies make
+  // new workers: ask again after either.
+  std::span<const std::thread::native_handle_type> worker_threads() const;
 
   double dt() const;
   double time() const;

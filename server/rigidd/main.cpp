@@ -36,10 +36,17 @@ std::string number(double v) {
 }
 
 std::string describe(const scene::Scene& s, const rigidd::RigiddOptions& o) {
-  std::string text = s.path + " (" + std::to_string(s.world.bodies.size()) + " bodies, " +
-                     number(s.rate_hz) + " Hz, " + std::to_string(s.substeps) +
-                     " substep(s), state every " + std::to_string(s.publish_every) +
-                     " tick(s): " + number(s.rate_hz / s.publish_every) + " Hz)";
+  std::string text =
+      s.path + " (" + std::to_string(s.world.bodies.size()) + " bodies, " + number(s.rate_hz) +
+      " Hz, " + std::to_string(s.substeps) + " substep(s), state every " +
+      std::to_string(s.publish_every) + " tick(s): " + number(s.rate_hz / s.publish_every) +
+      " Hz, " +
+      (s.world.threads == 0 ? std::string("a physics thread per CPU")
+                            : std::to_string(s.world.threads) + " physics thread(s)") +
+      (o.threads         ? " (--threads)"
+       : s.threads_given ? " (scene)"
+                         : "") +
+      ")";
   text += ", mode " + std::string(rigidd::mode_name(o.mode));
   return text;
 }
@@ -182,6 +189,12 @@ int main(int argc, char** argv) {
     const std::string path =
         options.scene ? *options.scene : rigidd::default_scene_path(RIGID_SOURCE_DIR);
     scene = scene::load_scene(path);
+    // --threads, else the scene's world { threads }, else what the machine can give the loop.
+    if (options.threads) {
+      scene.world.threads = *options.threads;
+    } else if (!scene.threads_given) {
+      scene.world.threads = rigidd::default_threads();
+    }
   } catch (const rigidd::UsageError& e) {
     std::cerr << "rigidd: " << e.what() << '\n';
     return 2;

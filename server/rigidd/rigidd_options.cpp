@@ -1,5 +1,8 @@
 #include "rigidd/rigidd_options.hpp"
 
+#include <sched.h>
+
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <system_error>
@@ -10,6 +13,8 @@ namespace rigid::rigidd {
 namespace {
 
 constexpr std::string_view kDefaultScene = "config/scenes/default.pbtxt";
+// The scene's own bound on world { threads } (scene.cpp).
+constexpr int kMaxThreads = 256;
 // DDS maps domain ids to UDP ports; with the default port mapping ids above 232 do not fit.
 constexpr std::uint32_t kMaxDomain = 232;
 
@@ -81,7 +86,7 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
     }
     if (name != "--scene" && name != "--transport" && name != "--mode" && name != "--dds-domain" &&
         name != "--lcm-url" && name != "--prefix" && name != "--spin-us" && name != "--journal" &&
-        name != "--security" && name != "--controls") {
+        name != "--security" && name != "--controls" && name != "--threads") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -118,6 +123,13 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
         throw UsageError("--spin-us: expected microseconds 0 .. 1000000, got " + quoted(*value));
       }
       o.spin_us = us;
+    } else if (name == "--threads") {
+      int n = 0;
+      const auto [end, ec] = std::from_chars(value->data(), value->data() + value->size(), n);
+      if (ec != std::errc() || end != value->data() + value->size() || n < 0 || n > kMaxThreads) {
+        throw UsageError("--threads: expected 0 (every CPU) .. 256, got " + quoted(*value));
+      }
+      o.threads = n;
     } else if (name == "--journal") {
       if (value->empty()) throw UsageError("--journal: expected a file name, got ''");
       o.journal = std::string(*value);
@@ -155,6 +167,15 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
   return o;
 }
 
+int default_threads(int cpus) {
+  if (cpus <= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    cpus = sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 1;
+  }
+  return std::clamp(cpus - 1, 1, kMaxThreads);
+}
+
 std::string default_scene_path(const std::string& source_dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -178,8 +199,8 @@ std::string default_scene_path(const std::string& source_dir) {
 std::string usage() {
   return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
               [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
-              [--spin-us N] [--journal FILE] [--security DIR] [--controls on|off]
-              [--verbose] [--check]
+              [--spin-us N] [--threads N] [--journal FILE] [--security DIR]
+              [--controls on|off] [--verbose] [--check]
 
 Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
 and takes wrenches (forces at body points) and control requests from clients on both buses.
@@ -198,6 +219,11 @@ and takes wrenches (forces at body points) and control requests from clients on 
   --spin-us N        realtime mode: sleep to N microseconds before each tick's deadline, then
                      busy-wait to it, so that wake-up latency does not make ticks late (default
                      100; 0: sleep only)
+  --threads N        threads that step the world, 0 .. 256 (0: every CPU), overriding the
+                     scene's world { threads }; default the scene's, else the CPUs rigidd may
+                     use minus one (at least 1): the loop thread and its publishers keep one
+                     CPU, the other step threads run on the others, and one CPU's worth is left
+                     to the buses' receive threads. States are bit-identical for any count
   --journal FILE     write every command accepted, with the tick at which it took effect, and
                      a hash of every state published to FILE (created; an existing file is
                      refused): rigid-sim --replay FILE re-runs the session bit for bit

@@ -24,10 +24,13 @@ struct RigiddOptions {
   std::string prefix;
   bool reliable_state = false;
   std::int64_t spin_us = 100;  // realtime: busy-wait this long before each tick's deadline
-  std::string journal;         // --journal FILE; empty: none
-  std::string security;        // --security DIR: DDS Security identity directory; empty: none
-  bool controls = true;        // --controls on|off
-  bool verbose = false;        // --verbose: the lateness histogram at exit
+  // --threads: the threads that step the world, overriding the scene's world { threads } (0:
+  // every CPU). Unset: the scene's, else default_threads().
+  std::optional<int> threads;
+  std::string journal;   // --journal FILE; empty: none
+  std::string security;  // --security DIR: DDS Security identity directory; empty: none
+  bool controls = true;  // --controls on|off
+  bool verbose = false;  // --verbose: the lateness histogram at exit
   bool check = false;
   bool help = false;
 };
@@ -49,6 +52,15 @@ RigiddOptions parse_options(std::span<const std::string_view> args);
 std::string default_scene_path(const std::string& source_dir);
 
 std::string_view mode_name(rigid::Mode mode);
+
+// The physics threads rigidd uses when neither --threads nor the scene says: the CPUs this process
+// may run on (its affinity mask) minus one, at least 1. The loop thread is one of them and is
+// pinned, with the publishers, to one CPU; the pool's other threads go to the other CPUs (loop/
+// server.cpp). One CPU's worth stays free of step work for what is not pinned: each bus's receive
+// threads, the journal, housekeeping and the host, so that a step that fills its tick cannot
+// delay commands, replies or the bus protocols' own traffic. On two CPUs that is 1 (the loop
+// alone). `cpus`: the count to use; <= 0 reads the affinity mask.
+int default_threads(int cpus = 0);
 
 std::string usage();
 

@@ -218,6 +218,7 @@ class Loader {
              "world: threads must be 0 (every core) .. 256, got " + std::to_string(w.threads()));
       }
       scene_.world.threads = w.threads();
+      scene_.threads_given = true;
     }
 
     const msgs::Limits& l = w.limits();

@@ -36,6 +36,9 @@ struct Scene {
   double rate_hz = 1000.0;  // ticks per second
   int substeps = 1;         // physics steps per tick
   int publish_every = 1;    // ticks between published states
+  // world { threads } was given (world.threads then holds it): a program that has its own default
+  // (rigidd) uses that only when the scene is silent.
+  bool threads_given = false;
   Limits limits;
   // One line each, "FILE:LINE:COL: warning: ...", for things the loader fixed or that look
   // unintended.

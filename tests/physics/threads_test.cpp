@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "allocation_counter.hpp"
 #include "test_util.hpp"
@@ -81,7 +83,11 @@ std::uint64_t hash_of(const World& w) {
 TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
   // 8 threads of at least kMinBodiesPerThread bodies each: every count below really splits.
   const int n = 8 * World::kMinBodiesPerThread + 37;
-  for (const std::string integrator : {"", "exact_rotor4", "rk4", "dlm"}) {
+  // Every integrator's kernel (each splits its own loops over the shares), and the default.
+  std::vector<std::string> names{""};
+  for (const physics::IntegratorInfo& info : physics::all_integrators())
+    names.emplace_back(info.name);
+  for (const std::string& integrator : names) {
     std::uint64_t first = 0;
     for (int threads : {1, 2, 3, 8, 1}) {
       World w(crowd(n, integrator, threads));
@@ -102,6 +108,12 @@ TEST(WorldThreads, SetThreadsMidRunAndCopies) {
   b.set_threads(2);
   World c = b;  // a copy gets a pool of its own
   EXPECT_EQ(c.threads(), 2);
+  // The workers a caller may place (rigidd keeps them off its loop's CPU): threads - 1 of them,
+  // each World its own.
+  EXPECT_TRUE(a.worker_threads().empty());
+  ASSERT_EQ(b.worker_threads().size(), 1u);
+  ASSERT_EQ(c.worker_threads().size(), 1u);
+  EXPECT_NE(b.worker_threads()[0], c.worker_threads()[0]);
   drive(a, 30);
   drive(b, 30);
   drive(c, 30);

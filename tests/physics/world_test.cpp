@@ -350,3 +350,133 @@ TEST(WorldStep, AllocatesNothing) {
 
 }  // namespace
 }  // namespace rigid::test
+
+// What the World keeps cold and small (world.cpp): names looked up in a sorted index, the spec's
+// loads only for the bodies that have any, impulses in a list of the bodies that got one, the
+// principal moments and q_BP derived from the model. Each gives what the dense copies gave.
+namespace rigid::test {
+namespace {
+
+TEST(WorldCold, EveryNameIsFoundAndTheFirstRepeatIsTheDuplicate) {
+  WorldSpec ws;
+  const int n = 1000;
+  for (int i = 0; i < n; ++i) {
+    // Names out of id order, some prefixes of others.
+    ws.bodies.push_back(body("b" + std::to_string((i * 7919) % n), {1, 2, 3}));
+  }
+  World w(ws);
+  for (int i = 0; i < n; ++i)
+    EXPECT_EQ(w.find_body(ws.bodies[i].name), i);
+  EXPECT_EQ(w.find_body("b"), -1);
+  EXPECT_EQ(w.find_body("b1000"), -1);
+  EXPECT_EQ(w.find_body(""), -1);
+
+  // Two repeated names: the error names the body that repeats a name first in scene order.
+  ws.bodies[700].name = ws.bodies[20].name;
+  ws.bodies[300].name = ws.bodies[299].name;
+  expect_rejected(ws, 300, "name");
+  // A body before the repeat with a bad field is reported first, as before.
+  ws.bodies[100].mass = -1;
+  expect_rejected(ws, 100, "mass");
+}
+
+TEST(WorldCold, MomentsAndPrincipalFramesComeFromTheModel) {
+  const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  WorldSpec ws;
+  int k = 0;
+  for (const Vec3& I : {Vec3(2, 2, 2), Vec3(1, 1, 1.5), Vec3(1, 2, 2), Vec3(1, 2, 2.5)}) {
+    BodySpec b = body("b" + std::to_string(k++), I);
+    b.I_B = rotated(I, tilt);
+    ws.bodies.push_back(b);
+  }
+  BodySpec kin = body("kinematic", {1, 2, 2.5}, {0, 0, 1});
+  kin.kinematic = true;
+  ws.bodies.push_back(kin);
+  BodySpec point = body("point", {1, 1, 1});
+  point.has_inertia = false;
+  ws.bodies.push_back(point);
+  const World w(ws);
+  const Vec3 expected[] = {{2, 2, 2}, {1, 1, 1.5}, {2, 2, 1}, {1, 2, 2.5}, {1, 2, 2.5}, {0, 0, 0}};
+  for (int i = 0; i < w.body_count(); ++i) {
+    EXPECT_LT((w.principal_moments(i) - expected[i]).norm(), 1e-12) << i;
+    // q_BP diagonalises the spec's tensor (P = B for point masses and isotropic bodies).
+    const Mat3 R = w.q_BP(i).toRotationMatrix();
+    const Mat3 I_P = R.transpose() * ws.bodies[i].I_B * R;
+    if (w.body_model(i) == BodyModel::kAxisymmetric || w.body_model(i) == BodyModel::kGeneral) {
+      EXPECT_LT((I_P - Mat3(w.principal_moments(i).asDiagonal())).norm(), 1e-12) << i;
+    } else {
+      EXPECT_EQ(w.q_BP(i).coeffs(), Quat::Identity().coeffs()) << i;
+    }
+  }
+}
+
+// Applied loads cleared (all at once or body by body) give back exactly the spec's loads: a world
+// pushed and cleared moves bit for bit as one never pushed.
+TEST(WorldCold, ClearingAppliedLoadsRestoresTheScenesOwnLoads) {
+  WorldSpec ws;
+  for (int i = 0; i < 40; ++i) {
+    BodySpec b =
+        body("b" + std::to_string(i), i % 2 ? Vec3(1, 2, 3) : Vec3(1, 1, 1.4), {0.1 * i, 1, -0.5});
+    if (i % 9 == 4) b.angular_drag = 0.2;
+    ws.bodies.push_back(b);
+    if (i % 5 == 3) {
+      ws.loads.push_back(
+          LoadSpec{.body = i, .force = {0, 0, 2}, .p_BoQ_B = {0.3, 0, 0.1}, .frame = Frame::kBody});
+    }
+  }
+  World plain(ws), pushed(ws);
+  for (int k = 0; k < 30; ++k) {
+    for (int i = 0; i < pushed.body_count(); ++i) {
+      pushed.add_force(i, {1, -1, 0.5}, {0, 0.2, 0}, Frame::kWorld);
+      pushed.add_torque(i, {0, 0.3, 0}, Frame::kBody);
+    }
+    if (k % 2 == 0) {
+      pushed.clear_applied();
+    } else {
+      for (int i = pushed.body_count() - 1; i >= 0; --i)
+        pushed.clear_applied(i);
+    }
+    plain.step();
+    pushed.step();
+  }
+  for (int i = 0; i < plain.body_count(); ++i) {
+    EXPECT_EQ(plain.state(i).q_WB.coeffs(), pushed.state(i).q_WB.coeffs()) << i;
+    EXPECT_EQ(plain.state(i).w_WB, pushed.state(i).w_WB) << i;
+    EXPECT_EQ(plain.state(i).v_WBo, pushed.state(i).v_WBo) << i;
+  }
+  // And they are there: a body with a scene load moves differently from one without.
+  WorldSpec unloaded = ws;
+  unloaded.loads.clear();
+  World bare(unloaded);
+  bare.step(30);
+  EXPECT_NE(plain.state(3).v_WBo, bare.state(3).v_WBo);
+  EXPECT_EQ(plain.state(2).v_WBo, bare.state(2).v_WBo);
+}
+
+TEST(WorldCold, ImpulsesOnABodySumAndResetDropsThePendingOnes) {
+  WorldSpec ws;
+  for (int i = 0; i < 3; ++i)
+    ws.bodies.push_back(body("b" + std::to_string(i), {1, 2, 3}));
+  ws.g_W.setZero();
+  World w(ws);
+  w.apply_impulse(1, {1, 0, 0}, {0, 0, 0}, Frame::kWorld);
+  w.apply_impulse(2, {0, 1, 0}, {0, 0, 0}, Frame::kWorld);
+  w.apply_impulse(1, {0.5, 0, 0}, {0, 0, 0}, Frame::kWorld);
+  w.step();
+  EXPECT_EQ(w.state(1).v_WBo, Vec3(1.5, 0, 0));  // mass 1
+  EXPECT_EQ(w.state(2).v_WBo, Vec3(0, 1, 0));
+  EXPECT_EQ(w.state(0).v_WBo, Vec3::Zero());
+  w.step();  // applied once only
+  EXPECT_EQ(w.state(1).v_WBo, Vec3(1.5, 0, 0));
+  w.apply_impulse(0, {3, 0, 0}, {0, 0, 0}, Frame::kWorld);
+  w.reset();
+  w.step();
+  EXPECT_EQ(w.state(0).v_WBo, Vec3::Zero());
+  // After the reset a new impulse on the same body is taken again.
+  w.apply_impulse(0, {2, 0, 0}, {0, 0, 0}, Frame::kWorld);
+  w.step();
+  EXPECT_EQ(w.state(0).v_WBo, Vec3(2, 0, 0));
+}
+
+}  // namespace
+}  // namespace rigid::test
