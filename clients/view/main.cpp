@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -17,8 +18,10 @@
 #include <optional>
 #include <string_view>
 #include <thread>
+#include <tuple>
 #include <vector>
 
+#include "playback_viewer.hpp"
 #include "protocol.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
@@ -38,6 +41,7 @@ constexpr auto kControlPatience = 3s;
 constexpr double kPushTtl = 0.1;         // s of simulated time; re-sent each frame
 constexpr auto kMinPushInterval = 10ms;  // per page
 constexpr std::size_t kMaxPushingPages = 64;
+constexpr std::size_t kMaxWrenchesKept = 1024;  // accepted wrenches held for the pages' arrows
 
 std::filesystem::path default_web_dir() {
   std::error_code ec;
@@ -74,6 +78,7 @@ class Viewer {
       fresh_ = true;
     });
     session_.on_each_scene([this](const SceneDescription& d) { set_scene(d); });
+    session_.on_each_accepted([this](const AcceptedCommand& a) { accepted(a); });
     session_.on_each_stats([this](const StatsReport& s) {
       auto text = std::make_shared<const std::string>(view::stats_json(s));
       {
@@ -98,6 +103,7 @@ class Viewer {
     session_.on_each_state({});
     session_.on_each_scene({});
     session_.on_each_stats({});
+    session_.on_each_accepted({});
     server_->stop();
   }
 
@@ -116,6 +122,49 @@ class Viewer {
       scene_text_ = text;
     }
     server_->broadcast_text(text);
+  }
+
+  // Bus thread: the newest accepted wrench per (source, body, key), bounded; the pump forwards
+  // them to the pages at most kWrenchRate times a second, whatever rate controllers send at.
+  void accepted(const AcceptedCommand& a) {
+    if (a.kind != AcceptedKind::kWrench) return;
+    const std::lock_guard lock(mutex_);
+    const WrenchKey key{a.source, a.body_id, a.key};
+    if (wrenches_.size() >= kMaxWrenchesKept && !wrenches_.contains(key)) {
+      auto oldest = wrenches_.begin();  // full (a flood of keys): the oldest makes room
+      for (auto it = wrenches_.begin(); it != wrenches_.end(); ++it)
+        if (it->second.tick < oldest->second.tick) oldest = it;
+      wrenches_.erase(oldest);
+    }
+    wrenches_[key] = a;
+    wrenches_changed_ = true;
+  }
+
+  // Pump thread, mutex held: the accepted wrenches still acting at `tick` (ttl in sim time, at
+  // least one tick), newest last; forgets the others. Nothing when nothing changed.
+  std::optional<std::vector<AcceptedCommand>> acting_wrenches(std::int64_t tick) {
+    const double dt = scene_ && scene_->dt > 0 ? scene_->dt : 0;
+    for (auto it = wrenches_.begin(); it != wrenches_.end();) {
+      const double ticks = dt > 0 ? std::max(1.0, it->second.ttl / dt) : 1.0;
+      const double from = static_cast<double>(it->second.tick), now = static_cast<double>(tick);
+      // (A wrench may be accepted a little ahead of the newest state; far ahead: the tick went
+      // back, rigidd was reset or restarted.)
+      const bool expired = now > from + ticks || now + 100 + ticks < from;
+      if (expired) {
+        it = wrenches_.erase(it);
+        wrenches_changed_ = true;
+      } else {
+        ++it;
+      }
+    }
+    if (!wrenches_changed_) return std::nullopt;
+    wrenches_changed_ = false;
+    std::vector<AcceptedCommand> out;
+    out.reserve(wrenches_.size());
+    for (const auto& [key, a] : wrenches_)
+      out.push_back(a);
+    std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) { return x.tick < y.tick; });
+    return out;
   }
 
   std::vector<view::Bytes> greeting() {
@@ -182,6 +231,9 @@ class Viewer {
           r = session_.reset(kControlPatience);
           break;
         case view::Op::kPush:
+        case view::Op::kPlay:  // playback only: refused by the server in live mode
+        case view::Op::kSeek:
+        case view::Op::kSpeed:
           break;
       }
       const std::string text =
@@ -197,6 +249,8 @@ class Viewer {
   void pump() {
     const auto period = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(1.0 / kFrameRate));
+    const auto wrench_period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1.0 / view::kWrenchRate));
     auto next = Clock::now();
     std::unique_lock lock(mutex_);
     while (!stopping_) {
@@ -215,9 +269,17 @@ class Viewer {
       fresh_ = false;
       const StateFrame state = *latest_;
       const auto generation = static_cast<std::uint32_t>(generation_);
+      std::optional<std::vector<AcceptedCommand>> wrenches;
+      if (Clock::now() >= next_wrenches_) {
+        wrenches = acting_wrenches(state.tick);
+        if (wrenches) next_wrenches_ = Clock::now() + wrench_period;
+      }
       lock.unlock();
       server_->broadcast_state(
           std::make_shared<const std::string>(view::encode_state(state, generation)));
+      if (wrenches)
+        server_->broadcast_text(
+            std::make_shared<const std::string>(view::wrenches_json(*wrenches)));
       lock.lock();
     }
   }
@@ -235,6 +297,11 @@ class Viewer {
   std::deque<Job> jobs_;
   bool stopping_ = false;
   std::map<std::uint64_t, Clock::time_point> last_push_;  // server thread only
+  // (source, body, key): a wrench replaces the previous one with the same key in rigidd's table.
+  using WrenchKey = std::tuple<std::int64_t, std::int32_t, std::int32_t>;
+  std::map<WrenchKey, AcceptedCommand> wrenches_;
+  bool wrenches_changed_ = false;
+  Clock::time_point next_wrenches_{};  // pump thread only
   std::thread pump_, worker_;
 };
 
@@ -252,6 +319,11 @@ int main(int argc, char** argv) {
   if (options.help) {
     std::cout << view::usage();
     return clients::kExitOk;
+  }
+  if (!options.file.empty()) {  // rigid-view FILE: a recording instead of the bus
+    return view::serve_recording(options, options.web_dir.empty()
+                                              ? default_web_dir()
+                                              : std::filesystem::path(options.web_dir));
   }
   try {
     util::SignalWatcher signals({SIGINT, SIGTERM});

@@ -172,7 +172,7 @@ bool whole(double v, double lo, double hi) {
 std::string encode_state(const StateFrame& state, std::uint32_t scene_generation) {
   const std::size_t n = state.ids.size();
   std::string out;
-  out.reserve(kStateHeaderBytes + 7 * n * sizeof(double) + 4 * n);
+  out.reserve(kStateHeaderBytes + kStateBytesPerBody * n);
   put_u32(out, kStateMagic);
   put_u32(out, static_cast<std::uint32_t>(n));
   put_u32(out, scene_generation);
@@ -180,9 +180,17 @@ std::string encode_state(const StateFrame& state, std::uint32_t scene_generation
   put_i64(out, state.tick);
   const double t = state.sim_time;
   put_f64s(out, &t, 1);
-  put_f64s(out, state.position.data(), std::min(state.position.size(), 3 * n));
-  put_f64s(out, state.orientation.data(), std::min(state.orientation.size(), 4 * n));
-  out.resize(kStateHeaderBytes + 7 * n * sizeof(double), '\0');  // a short frame: zeros
+  put_i64(out, state.stamp_ns);
+  // Each array at its place; a short one (a decoder guarantees they are not) is padded with zeros.
+  const auto array = [&](const std::vector<double>& v, std::size_t per_body) {
+    const std::size_t at = out.size();
+    put_f64s(out, v.data(), std::min(v.size(), per_body * n));
+    out.resize(at + per_body * n * sizeof(double), '\0');
+  };
+  array(state.position, 3);
+  array(state.orientation, 4);
+  array(state.linear_velocity, 3);
+  array(state.angular_velocity, 3);
   out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
   return out;
 }
@@ -218,6 +226,8 @@ std::string scene_json(const SceneDescription& scene, std::uint64_t generation) 
   number(out, scene.dt);
   out += ",\"publish_every\":";
   integer(out, scene.publish_every);
+  out += ",\"gravity\":";
+  numbers(out, scene.gravity.data(), 3);
   out += ",\"bodies\":[";
   if (scene.lengths_agree()) {
     for (std::size_t i = 0; i < scene.body_count(); ++i) {
@@ -228,6 +238,8 @@ std::string scene_json(const SceneDescription& scene, std::uint64_t generation) 
       string(out, scene.names[i]);
       out += ",\"mass\":";
       number(out, scene.masses[i]);
+      out += ",\"inertia\":";
+      numbers(out, &scene.inertia[6 * i], 6);
       const std::string_view shape = client::shape_name(scene.shape_kinds[i]);
       if (!shape.empty()) {
         out += ",\"shape\":";
@@ -269,16 +281,58 @@ std::string stats_json(const StatsReport& s) {
   integer(out, refused);
   out += ",\"accepted\":";
   integer(out, s.commands_accepted);
+  out += ",\"frozen\":";
+  integer(out, s.bodies_frozen);
   out += '}';
   return out;
 }
 
-std::string hello_json(bool read_only, std::uint64_t connection) {
+std::string wrenches_json(const std::vector<AcceptedCommand>& accepted) {
+  std::string out = "{\"type\":\"wrenches\",\"wrenches\":[";
+  std::size_t skip = 0, wrenches = 0;
+  for (const AcceptedCommand& a : accepted)
+    wrenches += a.kind == AcceptedKind::kWrench ? 1 : 0;
+  if (wrenches > kMaxWrenchesShown) skip = wrenches - kMaxWrenchesShown;
+  const auto frame = [](Frame f) { return f == Frame::kBody ? "\"body\"" : "\"world\""; };
+  bool first = true;
+  for (const AcceptedCommand& a : accepted) {
+    if (a.kind != AcceptedKind::kWrench) continue;
+    if (skip > 0) {
+      --skip;
+      continue;
+    }
+    if (!first) out += ',';
+    first = false;
+    out += "{\"body\":";
+    integer(out, a.body_id);
+    out += ",\"tick\":";
+    integer(out, a.tick);
+    out += ",\"ttl\":";
+    number(out, a.ttl);
+    out += ",\"force\":";
+    numbers(out, a.force.data(), 3);
+    out += ",\"force_frame\":";
+    out += frame(a.force_frame);
+    out += ",\"point\":";
+    numbers(out, a.point.data(), 3);
+    out += ",\"torque\":";
+    numbers(out, a.torque.data(), 3);
+    out += ",\"torque_frame\":";
+    out += frame(a.torque_frame);
+    out += ",\"key\":";
+    integer(out, a.key);
+    out += '}';
+  }
+  out += "]}";
+  return out;
+}
+
+std::string hello_json(bool read_only, std::uint64_t connection, bool playback) {
   std::string out = "{\"type\":\"hello\",\"read_only\":";
   out += read_only ? "true" : "false";
   out += ",\"connection\":";
   integer(out, static_cast<std::int64_t>(connection));
-  out += '}';
+  out += playback ? ",\"mode\":\"playback\"}" : ",\"mode\":\"live\"}";
   return out;
 }
 
@@ -300,6 +354,33 @@ std::string reply_json(std::int64_t id, std::string_view op, bool ok, std::strin
   return out;
 }
 
+// Playback (rigid-view FILE).
+std::string playback_json(const PlaybackStatus& s) {
+  std::string out = "{\"type\":\"playback\",\"file\":";
+  string(out, s.file);
+  out += ",\"playing\":";
+  out += s.playing ? "true" : "false";
+  out += ",\"speed\":";
+  number(out, s.speed);
+  out += ",\"start\":";
+  number(out, s.start);
+  out += ",\"end\":";
+  number(out, s.end);
+  out += ",\"position\":";
+  number(out, s.position);
+  out += ",\"tick\":";
+  integer(out, s.tick);
+  out += ",\"sim_time\":";
+  number(out, s.sim_time);
+  out += ",\"index\":";
+  integer(out, static_cast<std::int64_t>(s.index));
+  out += ",\"states\":";
+  integer(out, static_cast<std::int64_t>(s.states));
+  out += '}';
+  return out;
+}
+// End of playback.
+
 std::string error_json(std::string_view message) {
   std::string out = "{\"type\":\"error\",\"message\":";
   string(out, message);
@@ -319,6 +400,12 @@ std::string_view op_name(Op op) {
       return "reset";
     case Op::kPush:
       return "push";
+    case Op::kPlay:
+      return "play";
+    case Op::kSeek:
+      return "seek";
+    case Op::kSpeed:
+      return "speed";
   }
   return "?";
 }
@@ -328,7 +415,7 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
   PageCommand c;
   std::string_view op;
   bool have_id = false, have_steps = false, have_body = false, have_force = false,
-       have_point = false;
+       have_point = false, have_speed = false;
   Reader reader(text);
   const std::string error = reader.object([&](std::string_view key, const Reader::Value& v) {
     using K = Reader::Value::Kind;
@@ -361,6 +448,21 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
         out[k] = v.array[k];
       }
       (key == "force" ? have_force : have_point) = true;
+      // Playback (rigid-view FILE).
+    } else if (key == "tick") {
+      if (v.kind != K::kNumber || !whole(v.num, 0, static_cast<double>(kMaxCommandId)))
+        return std::string("tick: expected an integer in [0, 2^53]");
+      c.tick = static_cast<std::int64_t>(v.num);
+    } else if (key == "time") {
+      if (v.kind != K::kNumber || std::abs(v.num) > kMaxSeekTime)
+        return std::string("time: expected a number of seconds in [-1e12, 1e12]");
+      c.time = v.num;
+    } else if (key == "speed") {
+      if (v.kind != K::kNumber || !(v.num >= kMinPlaybackSpeed && v.num <= kMaxPlaybackSpeed))
+        return std::string("speed: expected a number in [1/64, 64]");
+      c.speed = v.num;
+      have_speed = true;
+      // End of playback.
     } else {
       return "unknown field " + std::string(key);
     }
@@ -380,14 +482,42 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
     c.op = Op::kPush;
     if (!have_body || !have_force || !have_point)
       return std::string("push: needs body, force and point");
+    if (have_speed || c.tick >= 0 || c.time) return std::string("push: unexpected field");
     return c;
+    // Playback (rigid-view FILE).
+  } else if (op == "play") {
+    c.op = Op::kPlay;
+  } else if (op == "seek") {
+    c.op = Op::kSeek;
+    if ((c.tick >= 0) == c.time.has_value()) return std::string("seek: needs one of tick and time");
+  } else if (op == "speed") {
+    c.op = Op::kSpeed;
+    if (!have_speed) return std::string("speed: missing speed");
+    // End of playback.
   } else {
     return op.empty() ? std::string("missing op") : "unknown op " + std::string(op);
   }
   if (!have_id) return std::string(op) + ": missing id";
-  if (have_body || have_force || have_point || (have_steps && c.op != Op::kStep))
+  if (have_body || have_force || have_point || (have_steps && c.op != Op::kStep) ||
+      (have_speed && c.op != Op::kSpeed) || ((c.tick >= 0 || c.time) && c.op != Op::kSeek))
     return std::string(op) + ": unexpected field";
   return c;
 }
+
+// Playback (rigid-view FILE).
+std::string refusal_in_mode(const PageCommand& c, bool playback) {
+  const bool for_playback = c.op == Op::kPlay || c.op == Op::kSeek || c.op == Op::kSpeed;
+  const bool for_rigidd =
+      c.op == Op::kResume || c.op == Op::kStep || c.op == Op::kReset || c.op == Op::kPush;
+  if (playback && for_rigidd) {
+    return std::string(op_name(c.op)) +
+           ": not while playing a recording (there is no rigidd to command; use play, pause, "
+           "seek and speed)";
+  }
+  if (!playback && for_playback)
+    return std::string(op_name(c.op)) + ": only when playing a recording (rigid-view FILE)";
+  return {};
+}
+// End of playback.
 
 }  // namespace rigid::view

@@ -3,10 +3,17 @@
 //
 // State frame (binary, little-endian, 8-byte aligned so that the page reads it as typed arrays):
 //   u32 magic kStateMagic, u32 n (bodies), u32 scene generation, u32 0, i64 tick, f64 sim_time,
-//   f64 position[3n] (p_WBo), f64 orientation[4n] (q_WB as w, x, y, z), i32 id[n].
+//   i64 stamp_ns (rigidd's wall clock at publish: the page's latency), f64 position[3n] (p_WBo),
+//   f64 orientation[4n] (q_WB as w, x, y, z), f64 linear_velocity[3n] (v_WBo in W), f64
+//   angular_velocity[3n] (w_WB in W, as rigidd publishes it: msgs/rigid.idl), i32 id[n]. Total
+//   kStateHeaderBytes + kStateBytesPerBody n.
 // Page commands (text, at most kMaxCommandBytes, one flat JSON object):
 //   {"op":"pause"|"resume"|"reset","id":N}   {"op":"step","id":N,"steps":K}
 //   {"op":"push","body":ID,"force":[x,y,z],"point":[x,y,z]}   (force in W, point from the CoM in B)
+//   {"op":"ack"}   (exactly these bytes: the page has drawn a state frame; see kAckCommand)
+// Playback (rigid-view FILE, hello's "mode":"playback"): pause as above, and
+//   {"op":"play","id":N}   {"op":"seek","id":N,"tick":T} or {...,"time":S}
+//   {"op":"speed","id":N,"speed":X}
 #pragma once
 
 #include <array>
@@ -16,18 +23,32 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include "rigid/messages.hpp"
 
 namespace rigid::view {
 
-inline constexpr std::uint32_t kStateMagic = 0x31565752;  // "RWV1" in the frame's first bytes
-inline constexpr std::size_t kStateHeaderBytes = 32;
+inline constexpr std::uint32_t kStateMagic = 0x32565752;  // "RWV2" (with velocities)
+inline constexpr std::size_t kStateHeaderBytes = 40;
+inline constexpr std::size_t kStateBytesPerBody = 13 * 8 + 4;
+// Accepted wrenches forwarded to the pages: at most this many per message (the newest), at most
+// kWrenchRate messages a second (rigid-view keeps the newest per source, body and key).
+inline constexpr std::size_t kMaxWrenchesShown = 64;
+inline constexpr double kWrenchRate = 20;
 inline constexpr std::size_t kMaxCommandBytes = 512;
+// A page acknowledges each state frame once it has drawn it; rigid-view sends a page at most
+// kMaxUnackedStates frames ahead of its acks (server.hpp), so a slow page's states wait (newest
+// only) in rigid-view instead of in TCP buffers, where they would add seconds of latency.
+inline constexpr std::string_view kAckCommand = R"({"op":"ack"})";
 inline constexpr std::int64_t kMaxSteps = 1'000'000;
 inline constexpr std::int64_t kMaxCommandId = (std::int64_t{1} << 53);  // exact in JavaScript
 inline constexpr double kMaxPushForce = 1e4;  // N; rigidd's limits.max_force still applies
 inline constexpr double kMaxPushPoint = 100;  // m from the centre of mass
+// Playback (rigid-view FILE): the speed range, and the largest |time| a seek may name (s).
+inline constexpr double kMinPlaybackSpeed = 1.0 / 64;
+inline constexpr double kMaxPlaybackSpeed = 64;
+inline constexpr double kMaxSeekTime = 1e12;
 
 // The state as the page reads it.
 std::string encode_state(const StateFrame& state, std::uint32_t scene_generation);
@@ -35,18 +56,39 @@ std::string encode_state(const StateFrame& state, std::uint32_t scene_generation
 // {"type":"scene", ...}: each body's id, name and what to draw: "box" (size), "sphere",
 // "cylinder", "capsule", "ellipsoid" (dims as in SceneDescription), or for a body without a shape
 // the uniform box with its principal moments ("box", size, and "frame": the principal axes in B
-// as w, x, y, z).
+// as w, x, y, z); and for the page's energy and momentum: "mass" and "inertia" (Ixx, Iyy, Izz,
+// Ixy, Ixz, Iyz about the CoM, in B), and the scene's "gravity" (W).
 std::string scene_json(const SceneDescription& scene, std::uint64_t generation);
 std::string stats_json(const StatsReport& stats);
-// {"type":"hello","read_only":B,"source":N}
-std::string hello_json(bool read_only, std::uint64_t connection);
+// {"type":"wrenches","wrenches":[{"body":ID,"tick":T,"ttl":S,"force":[..],"force_frame":"world"|
+// "body","point":[..],"torque":[..],"torque_frame":..,"key":K}, ...]}: the accepted wrenches (kind
+// kWrench; others skipped), at most kMaxWrenchesShown, the last ones of `accepted`. A wrench acts
+// from tick to tick + max(ttl / dt, 1) (the page expires it in sim time).
+std::string wrenches_json(const std::vector<AcceptedCommand>& accepted);
+// {"type":"hello","read_only":B,"connection":N,"mode":"live"|"playback"}
+std::string hello_json(bool read_only, std::uint64_t connection, bool playback = false);
 // {"type":"reply","id":N,"op":"pause","ok":B,"outcome":"ok","tick":T,"message":"..."}
 std::string reply_json(std::int64_t id, std::string_view op, bool ok, std::string_view outcome,
                        std::int64_t tick, std::string_view message);
 // {"type":"error","message":"..."}: a refused frame.
 std::string error_json(std::string_view message);
 
-enum class Op { kPause, kResume, kStep, kReset, kPush };
+// Playback (rigid-view FILE): where it is, for the page's timeline. {"type":"playback",
+// "file":"...","playing":B,"speed":X,"start":S,"end":S,"position":S,"tick":T,"sim_time":S,
+// "index":I,"states":N}: start, end and position on the recording's timeline (its sim time, carried
+// on across a reset in the recording); tick, sim_time and index of the state shown.
+struct PlaybackStatus {
+  std::string_view file;
+  bool playing = false;
+  double speed = 1;
+  double start = 0, end = 0, position = 0;
+  std::int64_t tick = 0;
+  double sim_time = 0;
+  std::size_t index = 0, states = 0;
+};
+std::string playback_json(const PlaybackStatus& status);
+
+enum class Op { kPause, kResume, kStep, kReset, kPush, kPlay, kSeek, kSpeed };
 std::string_view op_name(Op op);
 
 struct PageCommand {
@@ -56,11 +98,19 @@ struct PageCommand {
   std::int32_t body = -1;  // kPush
   rigid::Vec3 force{};     // kPush
   rigid::Vec3 point{};     // kPush
+  // Playback. kSeek: exactly one of tick (>= 0) and time (finite); the other stays at its default.
+  std::int64_t tick = -1;
+  std::optional<double> time;
+  double speed = 0;  // kSpeed, in [kMinPlaybackSpeed, kMaxPlaybackSpeed]
   bool operator==(const PageCommand&) const = default;
 };
 
 // The command, or one line saying why the text is refused.
 std::variant<PageCommand, std::string> parse_command(std::string_view text);
+// Why a valid command is refused in this mode ("" when it is not): rigidd's controls other than
+// pause, and pushes, have no rigidd to go to while playing a recording; play, seek and speed have
+// no recording to act on in live mode.
+std::string refusal_in_mode(const PageCommand& command, bool playback);
 
 // The uniform box with the same principal moments as `inertia` (Ixx, Iyy, Izz, Ixy, Ixz, Iyz) and
 // `mass`: its edge lengths and the principal axes in B (w, x, y, z). Exposed for the tests.

@@ -31,9 +31,13 @@ struct File {
 };
 
 // The page's files: URL path -> (file under the web directory, content type).
-constexpr std::array<std::array<const char*, 3>, 5> kFiles{{
+constexpr std::array<std::array<const char*, 3>, 9> kFiles{{
     {"/", "index.html", "text/html; charset=utf-8"},
     {"/app.js", "app.js", "text/javascript; charset=utf-8"},
+    {"/drift.js", "drift.js", "text/javascript; charset=utf-8"},  // energy, momentum drift
+    {"/plot.js", "plot.js", "text/javascript; charset=utf-8"},    // the plots
+    {"/worker_socket.js", "worker_socket.js", "text/javascript; charset=utf-8"},  // its WebSocket
+    {"/timeline.js", "timeline.js", "text/javascript; charset=utf-8"},  // playback's timeline
     {"/three/three.module.js", "three/three.module.js", "text/javascript; charset=utf-8"},
     {"/three/three.core.js", "three/three.core.js", "text/javascript; charset=utf-8"},
     {"/three/OrbitControls.js", "three/OrbitControls.js", "text/javascript; charset=utf-8"},
@@ -74,7 +78,7 @@ class Page : public std::enable_shared_from_this<Page> {
       self->open_ = true;
       ++self->impl_.counts.pages_connected;
       self->send_text(std::make_shared<const std::string>(
-          hello_json(self->impl_.options.read_only, self->id_)));
+          hello_json(self->impl_.options.read_only, self->id_, self->impl_.options.playback)));
       if (self->impl_.greeting)
         for (Bytes& b : self->impl_.greeting())
           self->send_text(std::move(b));
@@ -122,13 +126,21 @@ class Page : public std::enable_shared_from_this<Page> {
     in_.consume(in_.size());
     if (!text) {
       refuse("binary frames are not accepted");
+    } else if (frame == kAckCommand) {
+      if (unacked_ > 0) --unacked_;  // (more acks than states: ignored)
+      write_next();
     } else {
       auto parsed = parse_command(frame);
       if (auto* error = std::get_if<std::string>(&parsed)) {
         refuse(*error);
       } else {
         const PageCommand& c = std::get<PageCommand>(parsed);
-        if (impl_.options.read_only) {
+        const std::string wrong_mode = refusal_in_mode(c, impl_.options.playback);
+        if (!wrong_mode.empty()) {  // a live command while playing a recording, or the reverse
+          ++impl_.counts.commands_refused;
+          send_text(std::make_shared<const std::string>(
+              reply_json(c.id, op_name(c.op), false, "refused", 0, wrong_mode)));
+        } else if (impl_.options.read_only) {
           ++impl_.counts.commands_refused;
           send_text(std::make_shared<const std::string>(
               reply_json(c.id, op_name(c.op), false, "refused", 0, "rigid-view runs --read-only")));
@@ -165,9 +177,10 @@ class Page : public std::enable_shared_from_this<Page> {
       next = std::move(texts_.front());
       texts_.pop_front();
       text = true;
-    } else if (state_) {
+    } else if (state_ && unacked_ < ViewServer::kMaxUnackedStates) {
       next = std::move(state_);
       state_.reset();
+      ++unacked_;
     } else {
       return;
     }
@@ -196,6 +209,7 @@ class Page : public std::enable_shared_from_this<Page> {
   std::deque<Bytes> texts_;
   Bytes state_;
   bool writing_ = false;
+  int unacked_ = 0;  // state frames written and not yet acknowledged
   bool open_ = false;
   bool closed_ = false;
   std::size_t bad_frames_ = 0;

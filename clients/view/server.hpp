@@ -2,9 +2,10 @@
 // files from memory (a fixed list, loaded at start) and one WebSocket per page at /ws.
 //
 // Each page connection has a "latest state" slot and a short queue of texts: a state that arrives
-// while the previous one is still being written replaces the one waiting (dropped, counted), so a
-// slow page gets fewer frames and never an unbounded queue. Texts (scene, stats, answers) queue up
-// to kMaxQueuedTexts; beyond that the oldest is dropped.
+// while the previous one is still being written, or while the page has kMaxUnackedStates frames
+// not yet acknowledged as drawn, replaces the one waiting (dropped, counted), so a slow page gets
+// fewer frames and never an unbounded queue, in rigid-view or in the sockets' buffers. Texts
+// (scene, stats, answers) queue up to kMaxQueuedTexts; beyond that the oldest is dropped.
 #pragma once
 
 #include <atomic>
@@ -41,12 +42,16 @@ struct ServerOptions {
   bool read_only = false;
   std::filesystem::path web_dir;
   std::size_t max_pages = 16;
+  bool playback = false;  // rigid-view FILE: hello says so; commands are checked for the mode
 };
 
 class ViewServer {
  public:
   static constexpr std::size_t kMaxQueuedTexts = 64;
   static constexpr std::size_t kMaxBadFrames = 20;  // then the page is disconnected
+  // State frames written to a page and not yet acknowledged ({"op":"ack"}, protocol.hpp): more
+  // wait in its newest-only slot. Two: one being drawn while the next travels.
+  static constexpr int kMaxUnackedStates = 2;
 
   // Called on the server thread for each valid command of a page (never with --read-only, except
   // that push is refused there too). `reply` sends a text to that page only (any thread).

@@ -10,6 +10,7 @@ using clients::quoted;
 using clients::UsageError;
 
 constexpr std::array<std::string_view, 3> kFlags{"--help", "-h", "--read-only"};
+constexpr std::int64_t kMaxMemoryMib = 1 << 20;  // 1 TiB: beyond any machine this runs on
 
 void parse_listen(std::string_view text, ViewOptions& o) {
   const auto colon = text.rfind(':');
@@ -40,6 +41,8 @@ void parse_listen(std::string_view text, ViewOptions& o) {
 
 ViewOptions parse_options(std::span<const std::string_view> args) {
   ViewOptions o;
+  std::string bus_option;  // the first bus option other than --prefix, refused with FILE
+  bool max_memory_given = false;
   clients::ArgReader reader(args, kFlags);
   while (const auto arg = reader.next()) {
     if (arg->name == "--help" || arg->name == "-h") {
@@ -48,32 +51,66 @@ ViewOptions parse_options(std::span<const std::string_view> args) {
       o.read_only = true;
     } else if (arg->name == "--listen") {
       parse_listen(arg->value, o);
+    } else if (arg->name == "--max-memory") {
+      o.max_memory_mib = clients::parse_count(arg->name, arg->value, 1);
+      if (o.max_memory_mib > kMaxMemoryMib) {
+        throw UsageError("--max-memory: expected at most " + std::to_string(kMaxMemoryMib) +
+                         " (MiB), got " + quoted(arg->value));
+      }
+      max_memory_given = true;
     } else if (arg->name == "--web-dir") {
       if (arg->value.empty()) throw UsageError("--web-dir: expected a directory, got ''");
       o.web_dir = std::string(arg->value);
     } else if (arg->name.empty()) {
-      throw UsageError("unexpected argument " + quoted(arg->value) + " (see --help)");
-    } else if (!clients::parse_bus_option(*arg, o.bus)) {
+      if (!o.file.empty())
+        throw UsageError("unexpected argument " + quoted(arg->value) + " (see --help)");
+      if (arg->value.empty()) throw UsageError("FILE: expected a recording, got ''");
+      o.file = std::string(arg->value);
+    } else if (clients::parse_bus_option(*arg, o.bus)) {
+      if (arg->name == "--prefix") {
+        o.prefix_given = true;
+      } else if (bus_option.empty()) {
+        bus_option = std::string(arg->name);
+      }
+    } else {
       throw UsageError("unknown option " + quoted(arg->name) + " (see --help)");
     }
   }
+  if (!o.file.empty() && !bus_option.empty()) {
+    throw UsageError(bus_option + ": rigid-view FILE plays a recording and joins no bus (only " +
+                     "--prefix applies: it picks an lcm-logger log's channels)");
+  }
+  if (o.file.empty() && max_memory_given)
+    throw UsageError("--max-memory: only with FILE (it bounds a recording's states in memory)");
   return o;
 }
 
 std::string usage() {
   return std::string(
              R"(usage: rigid-view [--listen ADDR:PORT] [--read-only] [--web-dir DIR] [bus options]
+       rigid-view [--listen ADDR:PORT] [--read-only] [--web-dir DIR] [--max-memory MIB]
+                  [--prefix P] FILE
 
 Shows a running rigidd in a web browser: serves one page and a WebSocket on ADDR:PORT and prints
 its URL. The page draws the scene's bodies as they move, rigidd's Stats, and buttons for pause,
 resume, step N and reset (each shows rigidd's answer); drag a body with the left button held to
 push it. Keeps running when rigidd restarts.
 
+With FILE, plays a recording instead of the bus: a rigid-record recording, an lcm-logger log of
+rigidd's channels (--prefix P picks P's channels when the log holds several) or a journal of
+rigidd (replayed as rigid-sim --replay does; only the states whose hashes match are played, and
+a journal whose replay diverges is refused). The page shows a timeline: play, pause, a slider
+over the recording's sim time, the state's tick and time, the speed (1/64 to 64). The states are
+read into memory, at most --max-memory MiB of them (default 512; a larger file is refused: raise
+it, or play the file on a bus with `rigid-record play FILE` and watch it with a live rigid-view).
+A file cut short plays up to its damaged tail.
+
   --listen ADDR:PORT  where to serve (default 127.0.0.1:8765; port 0: any free port). An address
                       other than loopback serves every host that can reach this one, with no
                       authentication: a warning is printed
   --read-only         refuse every command from the page (it only watches)
   --web-dir DIR       the page's files (default: web/ next to the executable)
+  --max-memory MIB    FILE: the most memory its states may take (default 512)
 )") + std::string(clients::bus_options_help());
 }
 

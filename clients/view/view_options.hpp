@@ -1,5 +1,6 @@
 // rigid-view's command line: the bus options (as rigidctl takes them), --listen, --read-only,
-// --web-dir.
+// --web-dir, and FILE: a recording to play instead of the bus (only --prefix of the bus options
+// applies then: it picks an lcm-logger log's channels).
 #pragma once
 
 #include <cstdint>
@@ -17,6 +18,9 @@ struct ViewOptions {
   std::uint16_t port = 8765;  // 0: any free port (printed)
   bool read_only = false;
   std::string web_dir;  // empty: "web" next to the executable
+  std::string file;     // rigid-view FILE: play this recording; empty: live from the bus
+  bool prefix_given = false;
+  std::int64_t max_memory_mib = 512;  // FILE: the most its states may take in memory
   bool help = false;
 };
 

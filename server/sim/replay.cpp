@@ -83,7 +83,7 @@ scene::Scene journal_scene(const SimOptions& options, const msgs::LogHeader& h,
 
 }  // namespace
 
-ReplayReport replay(const SimOptions& options) {
+ReplayReport replay(const SimOptions& options, const StateSink& on_state) {
   ReplayReport r;
   r.journal = *options.replay;
   records::RecordReader reader(r.journal);  // throws records::LogFileError, a std::runtime_error
@@ -176,6 +176,7 @@ ReplayReport replay(const SimOptions& options) {
           break;
         }
         r.last_verified_tick = tick;
+        if (on_state) on_state(frame);
         if (csv) {
           append_state_rows(driven.world(), rows);
           r.csv_rows += bodies;

@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "rigid/messages.hpp"
 #include "sim/sim_options.hpp"
 
 namespace rigid::sim {
@@ -50,10 +52,21 @@ struct ReplayReport {
   int exit_status() const { return divergence ? 3 : gap ? 4 : 0; }
 };
 
+// Called with each replayed state whose hash matched the journal's, in journal order, as soon as it
+// is verified: the same StateFrame rigidd published at that tick (tick, sim_time = tick x
+// (1 / rate_hz) as rigidd computes it, every body), but for stamp_ns, which is 0 (rigidd's wall
+// clock at publish is not journaled). rigidd hashes every distinct state it publishes (each
+// publish_every-th tick, the tick after a command, the last of a step request, tick 0 after a
+// reset; a paused rigidd's republishing of one tick once), so the sink sees exactly those, however
+// many its buses then delivered. A state after a divergence or a gap is never passed. The frame is
+// valid during the call only.
+using StateSink = std::function<void(const rigid::StateFrame&)>;
+
 // Runs the replay `options.replay` (with the scene options.scene, if given). Throws UsageError for
 // a scene that is not the journal's (exit 2), scene::SceneError for a bad scene, and
 // std::runtime_error for a journal that cannot be read or a CSV that cannot be written (exit 1).
-ReplayReport replay(const SimOptions& options);
+// What `on_state` throws ends the replay and propagates.
+ReplayReport replay(const SimOptions& options, const StateSink& on_state = {});
 
 void print_replay(std::ostream& out, const ReplayReport& report);
 

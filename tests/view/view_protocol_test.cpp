@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <variant>
+#include <vector>
 
 #include "protocol.hpp"
 #include "view_options.hpp"
@@ -70,11 +72,15 @@ TEST(ViewProtocol, StateFrameLayout) {
   s.resize(2);
   s.tick = 1234;
   s.sim_time = 1.234;
+  s.stamp_ns = 1'700'000'000'123'456'789;
   s.ids = {5, 9};
   s.position = {1, 2, 3, 4, 5, 6};
   s.orientation = {1, 0, 0, 0, 0.5, 0.5, 0.5, 0.5};
+  s.linear_velocity = {-1, -2, -3, -4, -5, -6};
+  s.angular_velocity = {10, 20, 30, 40, 50, 60};
   const std::string f = encode_state(s, 3);
-  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * (7 * 8 + 4));
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * (13 * 8 + 4));
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * kStateBytesPerBody);
   std::uint32_t u[4];
   std::memcpy(u, f.data(), 16);
   EXPECT_EQ(u[0], kStateMagic);
@@ -86,14 +92,88 @@ TEST(ViewProtocol, StateFrameLayout) {
   std::memcpy(&t, f.data() + 24, 8);
   EXPECT_EQ(tick, 1234);
   EXPECT_EQ(t, 1.234);
-  double pos[6], ori[8];
+  std::int64_t stamp;
+  std::memcpy(&stamp, f.data() + 32, 8);
+  EXPECT_EQ(stamp, 1'700'000'000'123'456'789);
+  double pos[6], ori[8], vel[6], omega[6];
   std::int32_t ids[2];
-  std::memcpy(pos, f.data() + 32, sizeof pos);
-  std::memcpy(ori, f.data() + 32 + sizeof pos, sizeof ori);
-  std::memcpy(ids, f.data() + 32 + sizeof pos + sizeof ori, sizeof ids);
+  const char* at = f.data() + kStateHeaderBytes;
+  for (auto [to, bytes] : {std::pair<void*, std::size_t>{pos, sizeof pos},
+                           {ori, sizeof ori},
+                           {vel, sizeof vel},
+                           {omega, sizeof omega},
+                           {ids, sizeof ids}}) {
+    std::memcpy(to, at, bytes);
+    at += bytes;
+  }
   EXPECT_EQ(pos[4], 5);
   EXPECT_EQ(ori[5], 0.5);
+  EXPECT_EQ(vel[0], -1);
+  EXPECT_EQ(vel[5], -6);
+  EXPECT_EQ(omega[0], 10);
+  EXPECT_EQ(omega[4], 50);
+  EXPECT_EQ(ids[0], 5);
   EXPECT_EQ(ids[1], 9);
+
+  // Arrays shorter than the ids (not from a decoder): zeros in their place, the layout kept.
+  s.angular_velocity.clear();
+  const std::string g = encode_state(s, 3);
+  ASSERT_EQ(g.size(), f.size());
+  std::memcpy(omega, g.data() + kStateHeaderBytes + (3 + 4 + 3) * 2 * 8, sizeof omega);
+  EXPECT_EQ(omega[4], 0);
+  std::memcpy(ids, g.data() + g.size() - sizeof ids, sizeof ids);
+  EXPECT_EQ(ids[1], 9);
+}
+
+TEST(ViewProtocol, StatsForTheHud) {
+  StatsReport s;
+  s.tick = 7;
+  s.lateness_p99_us = 12.5;
+  s.bodies_frozen = 3;
+  s.rejected.over_limit = 2;
+  s.rejected.rate_limited = 1;
+  const std::string j = stats_json(s);
+  EXPECT_NE(j.find(R"("lateness_p99_us":12.5,)"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("refused":3,)"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("frozen":3})"), std::string::npos) << j;
+}
+
+TEST(ViewProtocol, WrenchesForThePage) {
+  std::vector<AcceptedCommand> accepted;
+  AcceptedCommand control;
+  control.kind = AcceptedKind::kControl;
+  accepted.push_back(control);
+  AcceptedCommand w;
+  w.kind = AcceptedKind::kWrench;
+  w.tick = 42;
+  w.body_id = 3;
+  w.force = {1, -2, 0.5};
+  w.point = {0, 0, 0.25};
+  w.force_frame = Frame::kBody;
+  w.ttl = 0.1;
+  w.key = 7;
+  accepted.push_back(w);
+  const std::string j = wrenches_json(accepted);
+  EXPECT_EQ(j, R"({"type":"wrenches","wrenches":[{"body":3,"tick":42,"ttl":0.10000000000000001,)"
+               R"("force":[1,-2,0.5],"force_frame":"body","point":[0,0,0.25],"torque":[0,0,0],)"
+               R"("torque_frame":"world","key":7}]})");
+  EXPECT_EQ(wrenches_json({}), R"({"type":"wrenches","wrenches":[]})");
+  // A flood: only the last kMaxWrenchesShown, so a message stays small.
+  accepted.clear();
+  for (int i = 0; i < 1000; ++i) {
+    w.body_id = i;
+    accepted.push_back(w);
+  }
+  const std::string many = wrenches_json(accepted);
+  std::size_t count = 0;
+  for (std::size_t p = many.find("\"body\":"); p != std::string::npos;
+       p = many.find("\"body\":", p + 1))
+    ++count;
+  EXPECT_EQ(count, kMaxWrenchesShown);
+  EXPECT_EQ(many.find(R"("body":935,)"), std::string::npos);
+  EXPECT_NE(many.find(R"("body":936,)"), std::string::npos);
+  EXPECT_NE(many.find(R"("body":999,)"), std::string::npos);
+  EXPECT_LT(many.size(), 300 * kMaxWrenchesShown);
 }
 
 TEST(ViewProtocol, SceneAndBoxOfMoments) {
@@ -111,8 +191,11 @@ TEST(ViewProtocol, SceneAndBoxOfMoments) {
   d.inertia = {1, 1, 1, 0, 0, 0};
   d.shape_kinds = {ShapeKind::kCapsule};
   d.shape_dims = {0.1, 0.3, 0};
+  d.gravity = {0, 0, -9.81};
   const std::string j = scene_json(d, 2);
   EXPECT_NE(j.find(R"("name":"a \"quoted\" scene")"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("gravity":[0,0,-9.8100000000000005])"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("mass":1,"inertia":[1,1,1,0,0,0])"), std::string::npos) << j;
   EXPECT_NE(j.find(R"("shape":"capsule","dims":[0.10000000000000001,0.29999999999999999,0])"),
             std::string::npos)
       << j;

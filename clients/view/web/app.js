@@ -1,15 +1,45 @@
 // rigid-view's page: draws rigidd's bodies from SceneInfo and the binary state frames rigid-view
-// sends (protocol.hpp), shows Stats, sends pause/resume/step/reset and pushes (drag a body).
+// sends (protocol.hpp), shows Stats, sends pause/resume/step/reset and pushes (drag a body), draws
+// the accepted wrenches as arrows, a body list with the selected body's state, trails, and plots
+// of energy and angular-momentum drift (drift.js) and of tick lateness.
 // window.rigidView exposes what is drawn, for tests and for the console.
 import * as THREE from 'three';
 import { OrbitControls } from '/three/OrbitControls.js';
+import { Drift } from '/drift.js';
+import { StripChart } from '/plot.js';
+import { WorkerSocket } from '/worker_socket.js';
+import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
 
-const kMagic = 0x31565752;
+const kMagic = 0x32565752;  // "RWV2": the frame with velocities (protocol.hpp)
+const kHeader = 40;  // bytes
+const kBytesPerBody = 13 * 8 + 4;
 const $ = (id) => document.getElementById(id);
 
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio);
+// Scenes of more than kManyBodies bodies are drawn for speed: without multisampling, with Lambert
+// instead of physically based shading and with fewer triangles per body. Measured in headless
+// Chromium's software renderer (bench/view/README.md), 10^3 bodies: multisampling halves the frame
+// rate, PBR shading costs a third, spheres of 16x8 segments instead of 8x4 half of it again.
+const kManyBodies = 256;
+function makeRenderer(antialias) {
+  const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
+  r.setPixelRatio(window.devicePixelRatio);
+  return r;
+}
+let renderer = makeRenderer(true);
 $('view').appendChild(renderer.domElement);
+// Multisampling is fixed when a WebGL context is made: a new renderer (and canvas) when it changes.
+function useAntialias(on) {
+  if (renderer.getContextAttributes().antialias === on) return;
+  const old = renderer;
+  renderer = makeRenderer(on);
+  old.setAnimationLoop(null);
+  old.domElement.replaceWith(renderer.domElement);
+  controls.disconnect();
+  controls.connect(renderer.domElement);
+  old.dispose();
+  resize();
+  renderer.setAnimationLoop(frame);
+}
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x1d1f24);
 const camera = new THREE.PerspectiveCamera(50, 1, 0.01, 1000);
@@ -27,73 +57,197 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.5);
 sun.position.set(3, -2, 5);
 scene.add(sun);
 
-const bodies = new Map();  // id -> { id, name, shape, mesh }
+// Bodies are drawn with one THREE.InstancedMesh per shape (geometryKey): a scene of 10^4 spheres
+// of any sizes is one draw call. Each body is an instance; its matrix is its pose from the state
+// frame times its shape's scale and frame in B.
+// id -> { id, name, shape, index (scene order), group, instance, mass, inertia, radius, shape4
+//        (the unit geometry's scale and frame in B),
+//        p (p_WBo), q (q_WB), v (v_WBo in W), w (w_WB in W), placed }
+const bodies = new Map();
+let bodyList = [];         // in scene order
 const bodyGroup = new THREE.Group();
 scene.add(bodyGroup);
-
+const instanced = [];      // { mesh, ids: Int32Array (instance -> body id) }
 const debug = {
   connected: false, readOnly: false, connection: 0, scene: null, bodies: [], stats: null,
   frames: 0, lastState: null, replies: [], errors: [], pushes: 0,
   // The pose drawn for a body: position and orientation (w, x, y, z), and the tick it came from.
   renderedPose(name) {
+    // (The pose handed to three.js, in double precision; the GPU gets it as float32.)
     for (const b of bodies.values()) {
-      if (b.name !== name) continue;
-      const p = b.mesh.position, q = b.mesh.quaternion;
+      if (b.name !== name || !b.placed) continue;
+      const p = b.p, q = b.q;
       return { tick: debug.lastState ? debug.lastState.tick : -1,
                position: [p.x, p.y, p.z], orientation: [q.w, q.x, q.y, q.z] };
     }
     return null;
+  },
+  // A body's last published state as the page holds it (velocities in W).
+  bodyState(name) {
+    for (const b of bodies.values()) {
+      if (b.name !== name || !b.placed) continue;
+      return { id: b.id, tick: debug.lastState ? debug.lastState.tick : -1,
+               position: b.p.toArray(), orientation: [b.q.w, b.q.x, b.q.y, b.q.z],
+               linear_velocity: b.v.toArray(), angular_velocity: b.w.toArray() };
+    }
+    return null;
+  },
+  // A body's relative drift of energy and angular momentum since the reference state (drift.js).
+  drift(name) {
+    const b = bodyList.find((x) => x.name === name);
+    return b ? drift.worst(b.index) : null;
+  },
+  // The body whose axes are drawn (under the pointer), the followed camera target.
+  hovered() { return hoverAxes.visible && hovered ? hovered.name : null; },
+  target() { return controls.target.toArray(); },
+  // Where a body's centre (plus `offset`, in W) is on the screen, in CSS pixels of the page.
+  screenOf(name, offset = [0, 0, 0]) {
+    const b = bodyList.find((x) => x.name === name);
+    if (!b || !b.placed) return null;
+    const r = renderer.domElement.getBoundingClientRect();
+    const s = b.p.clone().add(new THREE.Vector3(...offset)).project(camera);
+    return { x: r.left + (s.x + 1) / 2 * r.width, y: r.top + (1 - s.y) / 2 * r.height };
+  },
+  // The wrench arrows drawn now: [{ body, from (W), force (W) }].
+  arrows: [],
+  // Samples the plots received, and the last ones.
+  plots() {
+    return { drift: driftChart.received, lateness: latenessChart.received,
+             lastDrift: driftChart.last(), lastLateness: latenessChart.last(),
+             of: selected ? selected.name : 'all (max)' };
+  },
+  // How many bodies the instanced meshes hold, and how many meshes (draw calls) that takes.
+  instances() {
+    let count = 0;
+    for (const g of instanced) count += g.mesh.count;
+    return { meshes: instanced.length, count };
   },
 };
 window.rigidView = debug;
 
 const palette = [0x4fc3f7, 0xffb74d, 0x81c784, 0xe57373, 0xba68c8, 0xfff176, 0x90a4ae];
 
-function geometryOf(b) {
-  const d = b.dims || [0.1, 0.1, 0.1];
-  const positive = (v, fallback) => (Number.isFinite(v) && v > 0 ? v : fallback);
+// What a shape's instances share: a unit geometry (sphere and ellipsoid: the unit sphere; box: the
+// unit cube; cylinder: radius 1, length 1 along z), which shapeMatrix() scales to each body's dims,
+// so that bodies of one shape are one InstancedMesh (one draw call) whatever their sizes. A
+// capsule's round ends cannot be scaled unevenly: capsules share a geometry only with equal dims.
+// Rounder when there are few (in software rendering every triangle of every instance costs).
+const positive = (v, fallback) => (Number.isFinite(v) && v > 0 ? v : fallback);
+function geometryOf(b, count = 1) {
+  const fine = count <= 32 ? 2 : count <= kManyBodies ? 1 : 0;
+  const round = [8, 16, 32][fine];
   let g;
   switch (b.shape) {
-    case 'sphere': g = new THREE.SphereGeometry(positive(d[0], 0.05), 32, 16); break;
-    case 'cylinder':
-      g = new THREE.CylinderGeometry(positive(d[0], 0.05), positive(d[0], 0.05), positive(d[1], 0.1), 32);
-      g.rotateX(Math.PI / 2);  // three's axis is y, rigid's is z
-      break;
-    case 'capsule':
-      g = new THREE.CapsuleGeometry(positive(d[0], 0.05), positive(d[1], 0.1), 8, 24);
-      g.rotateX(Math.PI / 2);
-      break;
+    case 'sphere':
     case 'ellipsoid':
-      g = new THREE.SphereGeometry(1, 32, 16);
-      g.scale(positive(d[0], 0.05), positive(d[1], 0.05), positive(d[2], 0.05));
-      break;
+      return new THREE.SphereGeometry(1, round, round / 2);
+    case 'cylinder':
+      g = new THREE.CylinderGeometry(1, 1, 1, round);
+      g.rotateX(Math.PI / 2);  // three's axis is y, rigid's is z
+      return g;
+    case 'capsule': {
+      const d = b.dims || [];
+      g = new THREE.CapsuleGeometry(positive(d[0], 0.05), positive(d[1], 0.1), [2, 4, 8][fine], round);
+      g.rotateX(Math.PI / 2);
+      return g;
+    }
     default:
-      g = new THREE.BoxGeometry(positive(d[0], 0.1), positive(d[1], 0.1), positive(d[2], 0.1));
-      if (b.frame) {  // the box of a body's principal moments: its axes in B
-        const [w, x, y, z] = b.frame;
-        g.applyQuaternion(new THREE.Quaternion(x, y, z, w).normalize());
-      }
+      return new THREE.BoxGeometry(1, 1, 1);
   }
-  return g;
 }
 
-function setScene(msg) {
-  for (const b of bodies.values()) {
-    bodyGroup.remove(b.mesh);
-    b.mesh.geometry.dispose();
-    b.mesh.material.dispose();
+// The shape within B: the unit geometry scaled to the body's dims; the box of a body's principal
+// moments also turned to its principal axes (frame: w, x, y, z in B).
+function shapeMatrix(b) {
+  const d = b.dims || [0.1, 0.1, 0.1];
+  const m = new THREE.Matrix4();
+  switch (b.shape) {
+    case 'sphere': {
+      const r = positive(d[0], 0.05);
+      return m.makeScale(r, r, r);
+    }
+    case 'ellipsoid': return m.makeScale(positive(d[0], 0.05), positive(d[1], 0.05), positive(d[2], 0.05));
+    case 'cylinder': {
+      const r = positive(d[0], 0.05);
+      return m.makeScale(r, r, positive(d[1], 0.1));
+    }
+    case 'capsule': return m;
+    default: {
+      m.makeScale(positive(d[0], 0.1), positive(d[1], 0.1), positive(d[2], 0.1));
+      if (!b.frame) return m;
+      const [w, x, y, z] = b.frame;
+      return new THREE.Matrix4().makeRotationFromQuaternion(new THREE.Quaternion(x, y, z, w).normalize())
+        .multiply(m);
+    }
   }
+}
+
+// The key of a body's geometry: bodies with the same key share one InstancedMesh (translucent
+// boxes of moments apart from solid boxes).
+function geometryKey(b) {
+  const kind = b.shape === 'ellipsoid' ? 'sphere' : b.shape;
+  return JSON.stringify(kind === 'capsule' ? [kind, b.dims] : [kind, !!b.from_moments]);
+}
+
+const kHidden = new THREE.Matrix4().makeScale(0, 0, 0);  // an instance not yet placed by a state
+const scratch = { m: new THREE.Matrix4(), one: new THREE.Vector3(1, 1, 1), c: new THREE.Color() };
+
+function setScene(msg) {
+  for (const g of instanced) {
+    bodyGroup.remove(g.mesh);
+    g.mesh.geometry.dispose();
+    g.mesh.material.dispose();
+    g.mesh.dispose();
+  }
+  instanced.length = 0;
   bodies.clear();
+  const many = msg.bodies.length > kManyBodies;
+  useAntialias(!many);
+  const groups = new Map();  // key -> { first body, members }
   msg.bodies.forEach((b, i) => {
-    const material = new THREE.MeshStandardMaterial({
-      color: palette[i % palette.length], roughness: 0.6, metalness: 0.1,
-      transparent: !!b.from_moments, opacity: b.from_moments ? 0.6 : 1 });
-    const mesh = new THREE.Mesh(geometryOf(b), material);
-    mesh.userData.bodyId = b.id;
-    mesh.visible = false;  // until a state places it
-    bodyGroup.add(mesh);
-    bodies.set(b.id, { id: b.id, name: b.name, shape: b.shape, mesh });
+    const key = geometryKey(b);
+    if (!groups.has(key)) groups.set(key, { b, members: [] });
+    groups.get(key).members.push(i);
   });
+  for (const { b, members } of groups.values()) {
+    const look = { transparent: !!b.from_moments, opacity: b.from_moments ? 0.6 : 1 };
+    const material = many ? new THREE.MeshLambertMaterial(look)
+                          : new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.1, ...look });
+    const geometry = geometryOf(b, many ? members.length : 1);
+    geometry.computeBoundingSphere();
+    const mesh = new THREE.InstancedMesh(geometry, material, members.length);
+    mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
+    // Bodies move every frame: the instances' bounding sphere would be stale for culling, and is
+    // recomputed only when picking needs it.
+    mesh.frustumCulled = false;
+    const ids = new Int32Array(members.length);
+    const g = { mesh, ids };
+    members.forEach((i, instance) => {
+      const d = msg.bodies[i];
+      ids[instance] = d.id;
+      const shape = shapeMatrix(d);
+      const radius = geometry.boundingSphere.radius * shape.getMaxScaleOnAxis();
+      mesh.setMatrixAt(instance, kHidden);
+      mesh.setColorAt(instance, scratch.c.setHex(palette[i % palette.length]));
+      bodies.set(d.id, { id: d.id, name: d.name, shape: d.shape, index: i, group: g, instance,
+                         mass: d.mass, inertia: d.inertia || null, radius, shape4: shape,
+                         p: new THREE.Vector3(), q: new THREE.Quaternion(),
+                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false });
+    });
+    mesh.instanceColor.needsUpdate = true;
+    bodyGroup.add(mesh);
+    instanced.push(g);
+  }
+  bodyList = msg.bodies.map((d) => bodies.get(d.id)).filter((b) => b);
+  drift.setBodies(bodyList, msg.gravity);
+  sceneDt = Number.isFinite(msg.dt) && msg.dt > 0 ? msg.dt : 0;
+  wrenches = [];
+  select(null);
+  hovered = null;
+  clearTrails();
+  drivenUntil.clear();
+  driftChart.clear();
+  fillBodyList();
   debug.scene = { name: msg.name, generation: msg.generation, dt: msg.dt };
   debug.bodies = msg.bodies.map((b) => ({ id: b.id, name: b.name, shape: b.shape,
                                           fromMoments: !!b.from_moments }));
@@ -101,27 +255,64 @@ function setScene(msg) {
 }
 
 function applyState(buffer) {
-  if (buffer.byteLength < 32) throw new Error('short state frame');
+  if (buffer.byteLength < kHeader) throw new Error('short state frame');
   const v = new DataView(buffer);
   if (v.getUint32(0, true) !== kMagic) throw new Error('bad state frame');
   const n = v.getUint32(4, true);
-  if (buffer.byteLength !== 32 + 60 * n) throw new Error('state frame of the wrong length');
+  if (buffer.byteLength !== kHeader + kBytesPerBody * n) throw new Error('state frame of the wrong length');
   const generation = v.getUint32(8, true);
   const tick = Number(v.getBigInt64(16, true));
   const simTime = v.getFloat64(24, true);
-  const pos = new Float64Array(buffer, 32, 3 * n);
-  const ori = new Float64Array(buffer, 32 + 24 * n, 4 * n);
-  const ids = new Int32Array(buffer, 32 + 56 * n, n);
+  const stampNs = v.getBigInt64(32, true);
+  const pos = new Float64Array(buffer, kHeader, 3 * n);
+  const ori = new Float64Array(buffer, kHeader + 24 * n, 4 * n);
+  const vel = new Float64Array(buffer, kHeader + 56 * n, 3 * n);
+  const omega = new Float64Array(buffer, kHeader + 80 * n, 3 * n);
+  const ids = new Int32Array(buffer, kHeader + 104 * n, n);
+  const { m, one } = scratch;
+  if (slots.length !== n) slots = new Int32Array(n);
   for (let i = 0; i < n; ++i) {
     const b = bodies.get(ids[i]);
+    slots[i] = b ? b.index : -1;
     if (!b) continue;
-    b.mesh.position.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-    b.mesh.quaternion.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
-    b.mesh.visible = true;
+    b.p.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+    b.q.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
+    b.v.set(vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]);
+    b.w.set(omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]);
+    b.placed = true;
+    // The instance's matrix: X_WB (pose) times the shape's scale and frame in B.
+    b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
   }
+  for (const g of instanced) {
+    g.mesh.instanceMatrix.needsUpdate = true;
+    g.mesh.boundingSphere = null;  // stale: recomputed by the next ray cast
+  }
+  // A body a wrench acts on gains or loses energy and momentum by the wrench's work, which is no
+  // integration error: its reference is taken again until kDrivenMargin after the wrench ended
+  // (as the accepted stream says, or this page's own push: its ttl is kPushTtl).
+  const driven = (b, until) => {
+    if (b && !(drivenUntil.get(b.index) >= until)) drivenUntil.set(b.index, until);
+  };
+  for (const w of wrenches)
+    driven(bodies.get(w.body), (w.tick + Math.max(w.ttl / (sceneDt || 1), 1)) * sceneDt + kDrivenMargin);
+  if (grab) driven(grab.body, simTime + kPushTtl + kDrivenMargin);
+  if (simTime < lastSimTime) drivenUntil.clear();  // a reset
+  for (const [index, until] of drivenUntil) {
+    if (simTime > until) drivenUntil.delete(index);
+    else drift.rebaseBody(index);
+  }
+  drift.update(tick, n, slots, pos, ori, vel, omega);
+  if (simTime < lastSimTime) clearTrails();  // reset: the trails would jump
+  lastSimTime = simTime;
+  addTrailPoints();
   debug.frames += 1;
   debug.lastState = { tick, simTime, bodies: n, generation };
+  // Latency: rigidd's publish (its wall clock) to the frame that draws this state (measured
+  // when the frame is rendered). Both clocks are this host's CLOCK_REALTIME.
+  if (stampNs > 0n) pendingStampMs = Number(stampNs / 1000n) / 1000;
+  statesToAck += 1;
   $('simtime').textContent = `${simTime.toFixed(3)} s`;
+  stateChanged = true;
 }
 
 function setStats(s) {
@@ -130,6 +321,8 @@ function setStats(s) {
   $('lateness').textContent = s.lateness_p99_us === null ? '–' : `${s.lateness_p99_us.toFixed(1)} µs`;
   $('overruns').textContent = String(s.overruns);
   $('refused').textContent = String(s.refused);
+  $('frozen').textContent = Number.isInteger(s.frozen) ? String(s.frozen) : '–';
+  if (Number.isFinite(s.lateness_p99_us)) latenessChart.push(performance.now() / 1000, [s.lateness_p99_us]);
 }
 
 function showAnswer(text, ok) {
@@ -142,9 +335,10 @@ function showAnswer(text, ok) {
 let socket = null;
 let nextId = 1;
 function connect() {
-  socket = new WebSocket(`ws://${location.host}/ws`);
-  socket.binaryType = 'arraybuffer';
+  // (Received on a Worker's thread: large state frames arrive whole, worker_socket.js.)
+  socket = new WorkerSocket(`ws://${location.host}/ws`);
   socket.onopen = () => {
+    statesToAck = 0;  // a new connection: nothing is owed
     debug.connected = true;
     $('status').textContent = 'connected';
     $('status').className = '';
@@ -157,7 +351,9 @@ function connect() {
   };
   socket.onmessage = (event) => {
     if (event.data instanceof ArrayBuffer) {
+      const t0 = performance.now();
       applyState(event.data);
+      debug.stateMs += performance.now() - t0;
       return;
     }
     const msg = JSON.parse(event.data);
@@ -167,9 +363,15 @@ function connect() {
         debug.connection = msg.connection;
         for (const id of ['pause', 'resume', 'step', 'reset']) $(id).disabled = msg.read_only;
         if (msg.read_only) showAnswer('read-only: rigid-view refuses commands', true);
+        // Playback (rigid-view FILE): the timeline instead of rigidd's controls.
+        debug.mode = msg.mode || 'live';
+        $('controls').hidden = debug.mode === 'playback';
+        if (debug.mode === 'playback') timeline.show(msg.read_only);
         break;
       case 'scene': setScene(msg); break;
       case 'stats': setStats(msg); break;
+      case 'wrenches': setWrenches(msg); break;
+      case 'playback': debug.playback = msg; timeline.update(msg); break;
       case 'reply':
         debug.replies.push(msg);
         if (debug.replies.length > 100) debug.replies.shift();
@@ -196,7 +398,7 @@ function send(command) {
 }
 function control(op, extra = {}) {
   const id = nextId++;
-  showAnswer(`${op}: waiting for rigidd…`, true);
+  showAnswer(`${op}: waiting for ${debug.mode === 'playback' ? 'rigid-view' : 'rigidd'}…`, true);
   return send({ op, id, ...extra });
 }
 $('pause').onclick = () => control('pause');
@@ -211,13 +413,27 @@ $('step').onclick = () => {
   control('step', { steps });
 };
 debug.control = control;
+// Playback (rigid-view FILE): play, pause, seek and speed; window.rigidView.playback is the last
+// "playback" message (where the timeline is).
+debug.mode = 'live';
+debug.playback = null;
+const timeline = createTimeline(control);
 
 // Push: press the left button on a body and drag; while held, a force pulls the picked point
 // towards the pointer's spot on the plane through it facing the camera (re-sent each frame with a
 // short ttl, so it stops when the button is released).
 const raycaster = new THREE.Raycaster();
 const pointer = new THREE.Vector2();
-let grab = null;  // { id, localPoint (from the CoM, in B), plane, target }
+let grab = null;  // { id, body, local (from the CoM, in B), plane, target }
+// The body under the pointer (raycaster already set) and the hit point in W, or null.
+function pick() {
+  const hit = raycaster.intersectObjects(instanced.map((g) => g.mesh), false)
+    .find((h) => h.instanceId !== undefined);
+  if (!hit) return null;
+  const g = instanced.find((x) => x.mesh === hit.object);
+  const body = g ? bodies.get(g.ids[hit.instanceId]) : null;
+  return body && body.placed ? { body, point: hit.point } : null;
+}
 const kPushGain = 20;  // N per m of drag
 const kMaxPush = 200;  // N
 function setPointer(event) {
@@ -225,37 +441,262 @@ function setPointer(event) {
   pointer.set(((event.clientX - r.left) / r.width) * 2 - 1, -((event.clientY - r.top) / r.height) * 2 + 1);
   raycaster.setFromCamera(pointer, camera);
 }
-renderer.domElement.addEventListener('pointerdown', (event) => {
-  if (event.button !== 0 || debug.readOnly) return;
+// (On the canvas's container: the canvas is replaced when multisampling changes.)
+let clicked = null;  // { body, x, y }: a press on a body; released in place, it selects the body
+$('view').addEventListener('pointerdown', (event) => {
+  if (event.button !== 0) return;
   setPointer(event);
-  const hit = raycaster.intersectObjects(bodyGroup.children, false)[0];
-  if (!hit) return;
-  const mesh = hit.object;
-  const local = mesh.worldToLocal(hit.point.clone());
+  const b = pick();
+  clicked = b ? { body: b.body, x: event.clientX, y: event.clientY } : null;
+  if (!b || debug.readOnly || debug.mode === 'playback') return;  // (selects, never pushes)
+  const { body, point } = b;
+  // The picked point from the CoM, in B: R_WB^T (p_WP - p_WBo).
+  const local = point.clone().sub(body.p).applyQuaternion(body.q.clone().invert());
   const normal = camera.getWorldDirection(new THREE.Vector3());
-  grab = { id: mesh.userData.bodyId, mesh, local,
-           plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.point),
-           target: hit.point.clone() };
+  grab = { id: body.id, body, local,
+           plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point),
+           target: point.clone() };
   controls.enabled = false;
   renderer.domElement.setPointerCapture(event.pointerId);
 });
-renderer.domElement.addEventListener('pointermove', (event) => {
-  if (!grab) return;
+$('view').addEventListener('pointermove', (event) => {
   setPointer(event);
+  if (!grab) {
+    hoverPending = true;  // picked once per frame, not per event
+    return;
+  }
   raycaster.ray.intersectPlane(grab.plane, grab.target);
 });
-const release = () => { grab = null; controls.enabled = true; };
-renderer.domElement.addEventListener('pointerup', release);
-renderer.domElement.addEventListener('pointercancel', release);
+const release = () => { grab = null; controls.enabled = true; grabLine.visible = false; };
+$('view').addEventListener('pointerup', (event) => {
+  // A click without a drag selects the body.
+  if (clicked && Math.hypot(event.clientX - clicked.x, event.clientY - clicked.y) < 4) select(clicked.body);
+  clicked = null;
+  release();
+});
+$('view').addEventListener('pointercancel', release);
 function sendPush() {
   if (!grab || !socket || socket.readyState !== WebSocket.OPEN) return;
-  const at = grab.mesh.localToWorld(grab.local.clone());
+  // The picked point in W: p_WBo + R_WB p_BoP.
+  const at = grab.local.clone().applyQuaternion(grab.body.q).add(grab.body.p);
   const f = grab.target.clone().sub(at).multiplyScalar(kPushGain);
   if (f.length() > kMaxPush) f.setLength(kMaxPush);
+  grabLine.geometry.setFromPoints([at, grab.target]);
+  grabLine.visible = true;
   socket.send(JSON.stringify({ op: 'push', body: grab.id, force: [f.x, f.y, f.z],
                                point: [grab.local.x, grab.local.y, grab.local.z] }));
   debug.pushes += 1;
 }
+
+// The pull: a line from the picked point to the pointer's spot.
+const grabLine = new THREE.Line(new THREE.BufferGeometry(),
+                                new THREE.LineBasicMaterial({ color: 0xffffff }));
+grabLine.visible = false;
+grabLine.frustumCulled = false;
+scene.add(grabLine);
+
+// Wrench arrows: one per wrench rigidd accepted that still acts (rigid-view forwards the newest
+// per source, body and key, at most kMaxWrenchesShown = 64, 20 times a second), at its application
+// point, along its force, kArrowMetresPerNewton long. A wrench acts from its tick for
+// max(ttl / dt, 1) ticks (rigidd's table): the arrow goes when the sim time passes that.
+const kMaxArrows = 64;
+const kArrowMetresPerNewton = 0.01;
+let wrenches = [];
+let sceneDt = 0;
+const arrows = [];
+const isVec3 = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
+function setWrenches(msg) {
+  if (!Array.isArray(msg.wrenches)) return;
+  wrenches = msg.wrenches.slice(-kMaxArrows).filter((w) => w && Number.isInteger(w.body) &&
+    Number.isFinite(w.tick) && Number.isFinite(w.ttl) && isVec3(w.force) && isVec3(w.point));
+}
+function updateArrows() {
+  const now = debug.lastState ? debug.lastState.simTime : 0;
+  const drawn = [];
+  for (const w of wrenches) {
+    const b = bodies.get(w.body);
+    if (!b || !b.placed) continue;
+    if (sceneDt > 0 && now > (w.tick + Math.max(w.ttl / sceneDt, 1)) * sceneDt + 1e-9) continue;
+    // Application point in W: p_WBo + R_WB p_BoP; the force in W (R_WB f_B when given in B).
+    const from = new THREE.Vector3(...w.point).applyQuaternion(b.q).add(b.p);
+    const f = new THREE.Vector3(...w.force);
+    if (w.force_frame === 'body') f.applyQuaternion(b.q);
+    const newtons = f.length();
+    if (!(newtons > 1e-9)) continue;
+    const k = drawn.length;
+    if (!arrows[k]) {
+      arrows[k] = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 1, 0xffd54f);
+      scene.add(arrows[k]);
+    }
+    const length = Math.min(Math.max(newtons * kArrowMetresPerNewton, 0.05), 3);
+    arrows[k].position.copy(from);
+    arrows[k].setDirection(f.clone().divideScalar(newtons));
+    arrows[k].setLength(length, Math.min(0.2 * length, 0.15), Math.min(0.1 * length, 0.08));
+    arrows[k].visible = true;
+    drawn.push({ body: w.body, from: from.toArray(), force: f.toArray() });
+  }
+  for (let k = drawn.length; k < arrows.length; ++k) arrows[k].visible = false;
+  debug.arrows = drawn;
+}
+
+// Hover: the body's axes (x red, y green, z blue: B), sized to the body.
+let hovered = null;
+let hoverPending = false;
+const hoverAxes = new THREE.AxesHelper(1);
+hoverAxes.visible = false;
+scene.add(hoverAxes);
+function updateHover() {
+  if (hoverPending) {
+    hoverPending = false;
+    const h = pick();
+    hovered = h ? h.body : null;
+  }
+  const b = hovered && hovered.placed ? hovered : null;
+  hoverAxes.visible = !!b;
+  if (!b) return;
+  hoverAxes.position.copy(b.p);
+  hoverAxes.quaternion.copy(b.q);
+  hoverAxes.scale.setScalar(Math.max(1.6 * b.radius, 0.05));
+}
+
+// Trails: the last kTrailPoints positions of at most kMaxTrails bodies (the selected one, the
+// hovered one, then the first in scene order), each a fixed-size buffer; off unless ticked.
+const kMaxTrails = 16;
+const kTrailPoints = 256;
+const trails = new Map();  // id -> { line, xyz: Float32Array, count }
+function clearTrails() {
+  for (const t of trails.values()) {
+    scene.remove(t.line);
+    t.line.geometry.dispose();
+    t.line.material.dispose();
+  }
+  trails.clear();
+}
+function trailBodies() {
+  const out = new Set();
+  if (!$('trails').checked) return out;
+  for (const b of [selected, hovered]) if (b) out.add(b);
+  for (let i = 0; i < bodyList.length && out.size < kMaxTrails; ++i) out.add(bodyList[i]);
+  return out;
+}
+function addTrailPoints() {
+  const want = trailBodies();
+  for (const [id, t] of trails) {
+    if (![...want].some((b) => b.id === id)) {
+      scene.remove(t.line);
+      t.line.geometry.dispose();
+      t.line.material.dispose();
+      trails.delete(id);
+    }
+  }
+  for (const b of want) {
+    if (!b.placed) continue;
+    let t = trails.get(b.id);
+    if (!t) {
+      const xyz = new Float32Array(3 * kTrailPoints);
+      const geometry = new THREE.BufferGeometry();
+      geometry.setAttribute('position', new THREE.BufferAttribute(xyz, 3).setUsage(THREE.DynamicDrawUsage));
+      const line = new THREE.Line(geometry, new THREE.LineBasicMaterial({
+        color: palette[b.index % palette.length], transparent: true, opacity: 0.7 }));
+      line.frustumCulled = false;
+      scene.add(line);
+      t = { line, xyz, count: 0 };
+      trails.set(b.id, t);
+    }
+    if (t.count === kTrailPoints) t.xyz.copyWithin(0, 3);  // full: drop the oldest
+    else t.count += 1;
+    t.xyz.set([b.p.x, b.p.y, b.p.z], 3 * (t.count - 1));
+    t.line.geometry.attributes.position.needsUpdate = true;
+    t.line.geometry.setDrawRange(0, t.count);
+  }
+  debug.trails = trails.size;
+}
+$('trails').onchange = () => { if (!$('trails').checked) clearTrails(); };
+
+// The body list (search by name or id; the first kMaxListed matches) and the selected body.
+const kMaxListed = 200;
+let selected = null;
+function fillBodyList() {
+  const query = $('search').value.trim().toLowerCase();
+  const list = $('bodylist');
+  list.replaceChildren();
+  let matches = 0;
+  for (const b of bodyList) {
+    if (query && !b.name.toLowerCase().includes(query) && String(b.id) !== query) continue;
+    if (++matches > kMaxListed) continue;
+    const row = document.createElement('div');
+    row.textContent = `${b.id} ${b.name}`;
+    row.className = b === selected ? 'row sel' : 'row';
+    row.onclick = () => select(b === selected ? null : b);
+    list.appendChild(row);
+  }
+  $('listcount').textContent = matches > kMaxListed ? `${kMaxListed} of ${matches}` : `${matches}`;
+}
+$('search').oninput = fillBodyList;
+function select(b) {
+  selected = b;
+  debug.selected = b ? b.name : null;
+  $('selected').style.display = b ? '' : 'none';
+  if (b) $('selname').textContent = `${b.name} (id ${b.id}, ${b.shape}, ${+b.mass.toPrecision(4)} kg)`;
+  fillBodyList();
+  driftChart.clear();  // a different quantity from here on
+}
+const fmt = (a) => a.map((x) => (Math.abs(x) < 1e-12 ? '0' : x.toPrecision(4))).join(', ');
+function showSelected() {
+  const b = selected;
+  if (!b || !b.placed) return;
+  $('selp').textContent = fmt(b.p.toArray());
+  $('selq').textContent = fmt([b.q.w, b.q.x, b.q.y, b.q.z]);
+  $('selv').textContent = fmt(b.v.toArray());
+  $('selw').textContent = fmt(b.w.toArray());
+}
+// "Follow": the camera keeps its offset from the selected body.
+function follow() {
+  if (!selected || !selected.placed || !$('follow').checked) return;
+  const delta = selected.p.clone().sub(controls.target);
+  controls.target.add(delta);
+  camera.position.add(delta);
+}
+
+// Plots: relative drift of energy and angular momentum (drift.js) of the selected body, or the
+// largest over all bodies, 10 samples a second; tick lateness p99 from each Stats report.
+const drift = new Drift();
+let slots = new Int32Array(0);  // state slot -> scene index
+const drivenUntil = new Map();  // scene index -> sim time until which a wrench may act on it
+const kDrivenMargin = 0.25;     // s: a wrench the page learns of late (20 Hz, over the bus)
+const kPushTtl = 0.1;           // s: rigid-view's push ttl (main.cpp kPushTtl)
+let lastSimTime = -Infinity;
+let stateChanged = false;
+const driftChart = new StripChart($('plot-drift'), {
+  series: [{ name: 'energy', color: '#4fc3f7' }, { name: 'ang. momentum', color: '#ffb74d' }],
+  log: true });
+const latenessChart = new StripChart($('plot-lateness'), {
+  series: [{ name: 'tick lateness p99', color: '#81c784' }], unit: ' µs' });
+let nextSample = 0;
+function samplePlots(now) {
+  if (now < nextSample) return;
+  nextSample = now + 100;
+  if (stateChanged) {
+    stateChanged = false;
+    const d = drift.worst(selected ? selected.index : -1);
+    driftChart.push(now / 1000, [d.energy, d.momentum]);
+    $('plot-of').textContent = selected ? selected.name : 'all bodies (max)';
+    showSelected();
+  }
+  driftChart.draw();
+  latenessChart.draw();
+}
+
+// The last 4096 latencies (ms) from rigidd's publish to the rendered frame (bench/view).
+let pendingStampMs = null;
+let statesToAck = 0;  // state frames applied and not yet drawn
+const latencies = new Float64Array(4096);
+let latencyCount = 0;
+debug.rendered = 0;
+debug.renderMs = 0;  // total time in renderer.render, and in applying states (bench/view)
+debug.stateMs = 0;
+debug.latencies = () => Array.from(latencies.subarray(0, Math.min(latencyCount, latencies.length)));
+debug.clearLatencies = () => { latencyCount = 0; };
 
 function resize() {
   const w = window.innerWidth, h = window.innerHeight;
@@ -265,9 +706,24 @@ function resize() {
 }
 window.addEventListener('resize', resize);
 resize();
-renderer.setAnimationLoop(() => {
+function frame(now) {
   sendPush();
+  updateHover();
+  updateArrows();
+  follow();
+  samplePlots(now);
   controls.update();
+  const t0 = performance.now();
   renderer.render(scene, camera);
-});
+  debug.renderMs += performance.now() - t0;  // (the GPU's work may finish later)
+  debug.rendered += 1;
+  // Drawn: rigid-view may send the next states (it keeps at most two unacknowledged).
+  for (; statesToAck > 0; --statesToAck)
+    if (socket && socket.readyState === WebSocket.OPEN) socket.send('{"op":"ack"}');
+  if (pendingStampMs !== null) {
+    latencies[latencyCount++ % latencies.length] = performance.timeOrigin + performance.now() - pendingStampMs;
+    pendingStampMs = null;
+  }
+}
+renderer.setAnimationLoop(frame);
 connect();
