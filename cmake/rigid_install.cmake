@@ -4,8 +4,12 @@
 # package installs itself (clients/python/CMakeLists.txt, RIGID_PYTHON_INSTALL_DIR).
 include(CMakePackageConfigHelpers)
 
-install(TARGETS rigidd rigid-sim rigidctl rigid-record rigid-attitude
+install(TARGETS rigidd rigid-sim rigidctl rigid-record rigid-attitude rigid-view
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# rigid-view's page (and the three.js it serves), as the build copies it next to the executable;
+# an installed rigid-view finds it at ../share/rigid/web from its own directory.
+install(DIRECTORY ${PROJECT_BINARY_DIR}/clients/view/web/
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/rigid/web)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/rigid-keys DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 file(GLOB _rigid_scenes CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/config/scenes/*.pbtxt)

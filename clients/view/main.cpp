@@ -43,10 +43,16 @@ constexpr auto kMinPushInterval = 10ms;  // per page
 constexpr std::size_t kMaxPushingPages = 64;
 constexpr std::size_t kMaxWrenchesKept = 1024;  // accepted wrenches held for the pages' arrows
 
+// web/ next to the executable (the build tree), else ../share/rigid/web from it (cmake --install).
 std::filesystem::path default_web_dir() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::filesystem::path("web") : exe.parent_path() / "web";
+  if (ec) return "web";
+  const std::filesystem::path beside = exe.parent_path() / "web";
+  if (std::filesystem::exists(beside / "index.html", ec)) return beside;
+  const std::filesystem::path installed = exe.parent_path().parent_path() / "share/rigid/web";
+  if (std::filesystem::exists(installed / "index.html", ec)) return installed;
+  return beside;  // missing: rigid-view says so, naming this directory
 }
 
 struct Job {

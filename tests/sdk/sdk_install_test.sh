@@ -17,7 +17,7 @@ cmake --install "$build" --prefix "$prefix" >"$work/install.log" || {
   cat "$work/install.log" >&2
   fail "cmake --install $build --prefix $prefix"
 }
-for p in rigidd rigid-sim rigidctl rigid-record rigid-attitude rigid-keys; do
+for p in rigidd rigid-sim rigidctl rigid-record rigid-attitude rigid-view rigid-keys; do
   [[ -x $prefix/bin/$p ]] || fail "$prefix/bin/$p not installed"
 done
 for scene in "$source"/config/scenes/*.pbtxt; do
@@ -30,6 +30,29 @@ grep -q "^ExecStart=$prefix/bin/rigidd --scene $prefix/share/rigid/scenes/defaul
   fail "$unit does not name the prefix $prefix: $(grep ExecStart= "$unit")"
 grep -q "@" "$unit" && fail "$unit has unconfigured variables"
 "$prefix/bin/rigidctl" --help >/dev/null || fail "installed rigidctl --help"
+
+# The installed rigid-view finds its page in share/rigid/web (no build tree beside it): it serves
+# index.html and three.js. Bounded: 10 s, stopped by PID.
+[[ -f $prefix/share/rigid/web/index.html ]] || fail "share/rigid/web/index.html not installed"
+"$prefix/bin/rigid-view" --listen 127.0.0.1:0 --transport lcm >"$work/view.out" 2>"$work/view.err" &
+view_pid=$!
+url=
+for _ in $(seq 100); do
+  url=$(grep -ho 'http://127.0.0.1:[0-9]*/' "$work/view.out" "$work/view.err" 2>/dev/null | head -1) || true
+  [[ -n $url ]] && break
+  sleep 0.1
+done
+[[ -n $url ]] || { kill "$view_pid"; fail "installed rigid-view printed no URL: $(cat "$work/view.err")"; }
+get() {  # URL: the body, or nothing
+  /usr/bin/python3 -c 'import sys, urllib.request
+print(urllib.request.urlopen(sys.argv[1], timeout=5).read().decode())' "$1" 2>/dev/null || true
+}
+page=$(get "$url")
+module=$(get "${url}three/three.module.js")
+kill "$view_pid"
+wait "$view_pid" || true
+[[ $page == *"<html"* ]] || fail "installed rigid-view at $url did not serve its page"
+[[ $module == *"REVISION"* ]] || fail "installed rigid-view did not serve three.module.js"
 
 # CMake: find_package(rigid) + rigid::client.
 cmake -S "$source/tests/sdk/consumer" -B "$work/cmake-build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
