@@ -7,9 +7,11 @@
 // spinning), starts rigidd on it (own --prefix, DDS on loopback) and rigid-view on a free port, loads
 // the page in Debian's /usr/bin/chromium (software WebGL: SwiftShader, as the browser test), waits
 // for every body to be drawn, then counts rendered frames and state frames for --seconds.
+// --web-dirs A,B serves each size with each page in turn (rigid-view --web-dir: an old page against
+// a new one, side by side), --repeat N runs every pair N times and prints the medians.
 //
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
-//                           [--csv FILE]
+//                           [--web-dirs DIR,...] [--repeat N] [--csv FILE]
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
 import { createRequire } from 'node:module';
@@ -22,14 +24,14 @@ const require = createRequire(fileURLToPath(new URL('../../tests/view/package.js
 const { chromium } = require('playwright-core');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--csv FILE]`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE]`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
 if (argv.length < 2) usage('needs the paths of rigidd and rigid-view');
 const [rigidd, rigidView] = argv;
 for (const exe of [rigidd, rigidView]) if (!existsSync(exe)) usage(`no such executable: ${exe}`);
-const opt = { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null };
+const opt = { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null, webDirs: [null], repeat: 1 };
 for (let i = 2; i < argv.length; i += 2) {
   const key = argv[i], value = argv[i + 1];
   if (value === undefined) usage(`${key}: missing value`);
@@ -42,6 +44,12 @@ for (let i = 2; i < argv.length; i += 2) {
   } else if (key === '--rate') {
     opt.rate = Number(value);
     if (!(Number.isInteger(opt.rate) && opt.rate >= 1 && opt.rate <= 1000)) usage(`--rate: expected an integer in [1, 1000], got ${value}`);
+  } else if (key === '--web-dirs') {
+    opt.webDirs = value.split(',');
+    for (const d of opt.webDirs) if (!existsSync(join(d, 'app.js'))) usage(`--web-dirs: no app.js in ${d}`);
+  } else if (key === '--repeat') {
+    opt.repeat = Number(value);
+    if (!(Number.isInteger(opt.repeat) && opt.repeat >= 1 && opt.repeat <= 20)) usage(`--repeat: expected an integer in [1, 20], got ${value}`);
   } else if (key === '--csv') {
     opt.csv = value;
   } else {
@@ -90,7 +98,7 @@ const watchdog = setTimeout(() => {
 }, 600000);
 
 // n bodies on a cubic lattice 0.3 m apart around the origin, alternately spheres and boxes (two
-// instanced meshes), each spinning about a different axis; zero gravity keeps them in view.
+// meshes), each spinning about a different axis; zero gravity keeps them in view.
 function sceneText(n) {
   const side = Math.ceil(Math.cbrt(n));
   const lines = [`# view_bench: ${n} bodies`,
@@ -108,12 +116,14 @@ function sceneText(n) {
 
 const quantile = (sorted, q) => (sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))] : NaN);
 
-async function run(n) {
+const median = (xs) => quantile([...xs].sort((a, b) => a - b), 0.5);
+
+async function run(n, webDir) {
   const sceneFile = join(work, `bench_${n}.pbtxt`);
   writeFileSync(sceneFile, sceneText(n));
   const bus = ['--transport', 'dds', '--prefix', `viewbench${process.pid}n${n}`];
   const server = start(rigidd, ['--scene', sceneFile, ...bus]);
-  const view = start(rigidView, [...bus, '--listen', '127.0.0.1:0']);
+  const view = start(rigidView, [...bus, '--listen', '127.0.0.1:0', ...(webDir ? ['--web-dir', webDir] : [])]);
   const url = await until('rigid-view to print its URL',
                           () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0], 30000);
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
@@ -128,17 +138,23 @@ async function run(n) {
   await sleep(opt.seconds * 1000);
   const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs]');
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
+  // Where the latency goes (pages that split it): publish -> worker -> main thread -> frame.
+  const parts = await rv('window.rigidView.latencyParts ? window.rigidView.latencyParts() : null');
   const instances = await rv('window.rigidView.instances()');
   await page.close();
   await stop(view);
   await stop(server);
   if (errors.length) throw new Error(`page errors: ${errors.join(' | ')}`);
   const seconds = (r1[2] - r0[2]) / 1000;
-  return { bodies: n, meshes: instances.meshes, fps: (r1[0] - r0[0]) / seconds,
+  return { bodies: n, page: webDir || '(default)', path: instances.path || 'instanced',
+           meshes: instances.meshes, fps: (r1[0] - r0[0]) / seconds,
            states_per_s: (r1[1] - r0[1]) / seconds, latency_p50_ms: quantile(latencies, 0.5),
            latency_p99_ms: quantile(latencies, 0.99), latency_samples: latencies.length, seconds,
            render_ms: (r1[3] - r0[3]) / Math.max(r1[0] - r0[0], 1),
-           state_ms: (r1[4] - r0[4]) / Math.max(r1[1] - r0[1], 1) };
+           state_ms: (r1[4] - r0[4]) / Math.max(r1[1] - r0[1], 1),
+           to_worker_p50_ms: parts ? median(parts.toWorker) : NaN,
+           to_main_p50_ms: parts ? median(parts.toMain) : NaN,
+           to_frame_p50_ms: parts ? median(parts.toFrame) : NaN };
 }
 
 try {
@@ -149,20 +165,39 @@ try {
            '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
   const results = [];
-  for (const n of opt.bodies) {
-    const r = await run(n);
-    results.push(r);
-    console.log(`${n} bodies (${r.meshes} instanced meshes): ${r.fps.toFixed(1)} frames/s, ` +
-                `${r.states_per_s.toFixed(1)} states/s drawn, latency publish -> frame ` +
-                `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
-                `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s); per frame: render ` +
-                `${r.render_ms.toFixed(2)} ms, per state: apply ${r.state_ms.toFixed(2)} ms`);
+  // Interleaved (size, page) pairs: every page meets the same machine load, run after run.
+  for (let k = 0; k < opt.repeat; ++k) {
+    for (const n of opt.bodies) {
+      for (const webDir of opt.webDirs) {
+        const r = await run(n, webDir);
+        results.push(r);
+        console.log(`${n} bodies, page ${r.page} (${r.meshes} ${r.path} meshes): ${r.fps.toFixed(1)} frames/s, ` +
+                    `${r.states_per_s.toFixed(1)} states/s drawn, latency publish -> frame ` +
+                    `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
+                    `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s; p50 to the worker ` +
+                    `${r.to_worker_p50_ms.toFixed(1)}, to the main thread ${r.to_main_p50_ms.toFixed(1)}, ` +
+                    `to the frame ${r.to_frame_p50_ms.toFixed(1)} ms); per frame: render ` +
+                    `${r.render_ms.toFixed(2)} ms, per state: apply ${r.state_ms.toFixed(2)} ms`);
+      }
+    }
+  }
+  if (opt.repeat > 1) {
+    console.log(`medians of ${opt.repeat} runs:`);
+    for (const n of opt.bodies) {
+      for (const webDir of opt.webDirs) {
+        const rs = results.filter((r) => r.bodies === n && r.page === (webDir || '(default)'));
+        const m = (key) => median(rs.map((r) => r[key])).toFixed(1);
+        console.log(`  ${n} bodies, page ${rs[0].page}: ${m('fps')} frames/s, ${m('states_per_s')} states/s, ` +
+                    `latency p50 ${m('latency_p50_ms')} ms, p99 ${m('latency_p99_ms')} ms ` +
+                    `(to the worker ${m('to_worker_p50_ms')}, main thread ${m('to_main_p50_ms')}, frame ${m('to_frame_p50_ms')})`);
+      }
+    }
   }
   if (opt.csv) {
-    const header = 'bodies,meshes,fps,states_per_s,latency_p50_ms,latency_p99_ms,latency_samples,seconds,render_ms,state_ms\n';
+    const header = 'bodies,page,path,meshes,fps,states_per_s,latency_p50_ms,latency_p99_ms,latency_samples,seconds,render_ms,state_ms,to_worker_p50_ms,to_main_p50_ms,to_frame_p50_ms\n';
     if (!existsSync(opt.csv)) writeFileSync(opt.csv, header);
     for (const r of results)
-      appendFileSync(opt.csv, `${r.bodies},${r.meshes},${r.fps},${r.states_per_s},${r.latency_p50_ms},${r.latency_p99_ms},${r.latency_samples},${r.seconds},${r.render_ms},${r.state_ms}\n`);
+      appendFileSync(opt.csv, `${r.bodies},${r.page},${r.path},${r.meshes},${r.fps},${r.states_per_s},${r.latency_p50_ms},${r.latency_p99_ms},${r.latency_samples},${r.seconds},${r.render_ms},${r.state_ms},${r.to_worker_p50_ms},${r.to_main_p50_ms},${r.to_frame_p50_ms}\n`);
   }
   clearTimeout(watchdog);
   await cleanup();

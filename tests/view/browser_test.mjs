@@ -8,11 +8,15 @@
 // momentum formulas on a worked case, and the spinner's drift small; hover axes, search, selection,
 // follow, trails; the drift and lateness plots receive data; garbage from a page refused; a page
 // that acknowledges no state gets two. Screenshot: OUTDIR/rigid-view.png.
+// A large scene (view_many.pbtxt beside SCENE: more than the page's kManyBodies, drawn as merged
+// geometry posed in the vertex shader): every body drawn, the pose the shader gets for the spinning
+// probe equal to the state rigidd published (float32), the probe's colour on the screen where its
+// published pose projects and the background where no body is, and hover picking the probe.
 // usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join } from 'node:path';
+import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
@@ -22,6 +26,8 @@ const prefix = `viewtest${process.pid}`;
 const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
 const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || `file://${loopbackConfig}` };
 const bus = ['--transport', 'dds', '--prefix', prefix];
+const manyBus = ['--transport', 'dds', '--prefix', `${prefix}many`];
+const manyScene = join(dirname(sceneFile), 'view_many.pbtxt');
 const children = [];
 let browser = null;
 const consoleErrors = [];
@@ -48,7 +54,7 @@ function fail(message) {
   for (const c of children) console.error(`--- ${c.spawnargs[0]} stderr:\n${c.err}`);
   cleanup().finally(() => process.exit(1));
 }
-const deadline = setTimeout(() => fail('took more than 120 s'), 120000);
+const deadline = setTimeout(() => fail('took more than 140 s'), 140000);
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 async function until(what, check, ms = 15000) {
   const end = Date.now() + ms;
@@ -58,6 +64,83 @@ async function until(what, check, ms = 15000) {
     if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
     await sleep(50);
   }
+}
+
+// The large scene's checks (see the top): its own rigidd and rigid-view, a second page.
+async function manyBodies() {
+  const server = start(rigidd, ['--scene', manyScene, ...manyBus]);
+  const view = start(rigidView, [...manyBus, '--listen', '127.0.0.1:0']);
+  const url = await until('the second rigid-view to print its URL',
+                          () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
+  const page = await browser.newPage();
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  await page.goto(url);
+  const rv = (expr) => page.evaluate(expr);
+  await until('the large scene and states', () => rv('window.rigidView.bodies.length === 300 && window.rigidView.frames > 5'), 40000);
+  // Every body drawn, by one merged mesh per shape group: sphere (with the ellipsoids), box,
+  // cylinder, capsule, box of moments.
+  const inst = await rv('window.rigidView.instances()');
+  if (inst.path !== 'merged' || inst.count !== 300 || inst.meshes !== 5) throw new Error(`large scene drawn as ${JSON.stringify(inst)}`);
+  const reply = await page.evaluate(() => new Promise((resolve) => {
+    const before = window.rigidView.replies.length;
+    window.rigidView.control('pause');
+    const poll = setInterval(() => {
+      const r = window.rigidView.replies.slice(before).find((x) => x.op === 'pause');
+      if (r) { clearInterval(poll); resolve(r); }
+    }, 50);
+    setTimeout(() => { clearInterval(poll); resolve(null); }, 10000);
+  }));
+  if (!reply || !reply.ok) throw new Error(`large scene: pause answered ${JSON.stringify(reply)}`);
+  const echo = start(rigidctl, ['echo', '--csv', '--count', '1', '--timeout', '20', ...manyBus]);
+  const code = await Promise.race([echo.done, sleep(25000).then(() => 'timeout')]);
+  if (code !== 0) throw new Error(`rigidctl echo (large scene): ${code}: ${echo.err}`);
+  const row = echo.out.split('\n').find((l) => l.split(',')[1] === 'probe');
+  if (!row) throw new Error(`no probe row in rigidctl's output: ${echo.out.slice(0, 500)}`);
+  const v = row.split(',').map(Number);
+  const t = v[0], published = { position: v.slice(2, 5), orientation: v.slice(5, 9) };
+  if (Math.abs(published.orientation[0]) > 0.999) throw new Error('the probe has not turned');
+  await until(`the large scene's page to draw the state at t=${t}`,
+              () => rv(`Math.abs(window.rigidView.lastState.simTime - ${t}) < 1e-9`), 5000);
+  // The pose in the vertex shader's texture: float32 of the published doubles (relative 6e-8).
+  const drawn = await rv('window.rigidView.renderedPose("probe")');
+  const err = Math.max(...published.position.map((x, i) => Math.abs(x - drawn.position[i])),
+                       ...published.orientation.map((x, i) => Math.abs(x - drawn.orientation[i])));
+  console.log(`probe at t=${t}: published ${JSON.stringify(published)}, drawn ${JSON.stringify(drawn)}`);
+  if (!(err < 1e-6)) throw new Error(`large scene: drawn pose differs from the published state by ${err}`);
+  // On the screen: the probe's colour (the palette's first, light blue 0x4fc3f7, shaded) where its
+  // published centre projects, and not 0.5 m above it (its half diagonal is 0.29 m; behind that
+  // spot are only the background and the grid, both grey).
+  const at = await rv('window.rigidView.screenOf("probe")');
+  const above = await rv('window.rigidView.screenOf("probe", [0, 0, 0.5])');
+  for (const p of [at, above]) {
+    const under = await rv(`document.elementFromPoint(${p.x}, ${p.y}).tagName`);
+    if (under !== 'CANVAS') throw new Error(`large scene: the ${under} at ${JSON.stringify(p)} hides the probe`);
+  }
+  const pixel = (x, y) => page.evaluate(([px, py]) => new Promise((resolve) => requestAnimationFrame(() => {
+    const canvas = document.querySelector('#view canvas');
+    const r = canvas.getBoundingClientRect();
+    const c = document.createElement('canvas');
+    c.width = canvas.width;
+    c.height = canvas.height;
+    const g = c.getContext('2d');
+    g.drawImage(canvas, 0, 0);
+    const s = canvas.width / r.width;
+    resolve(Array.from(g.getImageData(Math.round((px - r.left) * s), Math.round((py - r.top) * s), 1, 1).data));
+  })), [x, y]);
+  const probe = await pixel(at.x, at.y);
+  const empty = await pixel(above.x, above.y);
+  console.log(`large scene: pixel at the probe ${probe}, 0.5 m above it ${empty}`);
+  if (!(probe[2] > probe[0] + 40 && probe[1] > probe[0] + 20)) throw new Error(`not the probe's colour where it is drawn: ${probe}`);
+  if (!(Math.abs(empty[2] - empty[0]) < 20 && Math.abs(empty[1] - empty[0]) < 20))
+    throw new Error(`colour where no body is (0.5 m above the probe): ${empty}`);
+  // Picking without instanced meshes (the bodies' own shapes from the poses): hover the probe.
+  await page.mouse.move(at.x, at.y);
+  await until('the probe under the pointer in the large scene', () => rv('window.rigidView.hovered() === "probe"'), 3000);
+  await page.close();
+  view.kill('SIGTERM');
+  server.kill('SIGTERM');
+  await Promise.race([Promise.all([view.done, server.done]), sleep(5000)]);
 }
 
 try {
@@ -118,6 +201,21 @@ try {
   const LWant = [0.1, -0.9, 4];
   if (Math.abs(worked.e - eWant) > 1e-12 || worked.L.some((x, i) => Math.abs(x - LWant[i]) > 1e-12))
     throw new Error(`drift.js: E ${worked.e} (want ${eWant}), L_W ${worked.L} (want ${LWant})`);
+  // Drift.worst names the body with the largest drift (the page's label "all bodies (max: NAME)"):
+  // body 1 of 3 speeds up (energy x4, momentum unchanged), body 2's spin axis turns.
+  const worst = await page.evaluate(async () => {
+    const { Drift } = await import('/drift.js');
+    const d = new Drift();
+    const I = [1, 1, 1, 0, 0, 0];
+    d.setBodies([{ mass: 1, inertia: I }, { mass: 1, inertia: I }, { mass: 1, inertia: I }], [0, 0, 0]);
+    const pos = [0, 0, 0, 0, 0, 0, 0, 0, 0], ori = [1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0];
+    const index = [0, 1, 2];
+    d.update(0, 3, index, pos, ori, [0, 0, 0, 1, 0, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0, 0, 0, 1]);
+    d.update(1, 3, index, pos, ori, [0, 0, 0, 2, 0, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0, 0, 1, 0]);
+    return d.worst();
+  });
+  if (worst.energyAt !== 1 || worst.momentumAt !== 2 || !(Math.abs(worst.energy - 3) < 1e-12))
+    throw new Error(`Drift.worst: ${JSON.stringify(worst)}`);
   const a = await rv('window.rigidView.renderedPose("spinner")');
   await sleep(200);
   const b = await rv('window.rigidView.renderedPose("spinner")');
@@ -265,6 +363,8 @@ try {
     setTimeout(() => { counts.push(states); ws.close(); resolve(counts); }, 2000);
   }));
   if (flow[0] !== 2 || flow[1] !== 3) throw new Error(`states to a page that acknowledges none, then one: ${flow}`);
+
+  await manyBodies();
 
   await sleep(1500);  // a Stats report in the HUD
   const hud = await page.textContent('#hud');

@@ -19,6 +19,7 @@ const $ = (id) => document.getElementById(id);
 // instead of physically based shading and with fewer triangles per body. Measured in headless
 // Chromium's software renderer (bench/view/README.md), 10^3 bodies: multisampling halves the frame
 // rate, PBR shading costs a third, spheres of 16x8 segments instead of 8x4 half of it again.
+// They are also drawn without instancing (merged_bodies.js): SwiftShader's cost is per instance.
 const kManyBodies = 256;
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
@@ -57,25 +58,33 @@ const sun = new THREE.DirectionalLight(0xffffff, 1.5);
 sun.position.set(3, -2, 5);
 scene.add(sun);
 
-// Bodies are drawn with one THREE.InstancedMesh per shape (geometryKey): a scene of 10^4 spheres
-// of any sizes is one draw call. Each body is an instance; its matrix is its pose from the state
-// frame times its shape's scale and frame in B.
-// id -> { id, name, shape, index (scene order), group, instance, mass, inertia, radius, shape4
-//        (the unit geometry's scale and frame in B),
-//        p (p_WBo), q (q_WB), v (v_WBo in W), w (w_WB in W), placed }
+// Bodies are drawn with one mesh per shape (geometryKey): a scene of 10^4 spheres of any sizes is
+// one draw call. Small scenes: a THREE.InstancedMesh, each body an instance whose matrix is its
+// pose from the state frame times its shape's scale and frame in B. Scenes of more than
+// kManyBodies bodies: MergedBodies (below), every body's vertices in one buffer, posed in the
+// vertex shader.
+// id -> { id, name, shape, index (scene order), group, instance (small scenes), mass, inertia,
+//        radius, shape4 (the unit geometry's scale and frame in B), unit (large scenes: the unit
+//        shape picked against), p (p_WBo), q (q_WB), v (v_WBo in W), w (w_WB in W), placed }
 const bodies = new Map();
 let bodyList = [];         // in scene order
 const bodyGroup = new THREE.Group();
 scene.add(bodyGroup);
 const instanced = [];      // { mesh, ids: Int32Array (instance -> body id) }
+let merged = null;         // MergedBodies, for scenes of more than kManyBodies bodies
 const debug = {
   connected: false, readOnly: false, connection: 0, scene: null, bodies: [], stats: null,
   frames: 0, lastState: null, replies: [], errors: [], pushes: 0,
   // The pose drawn for a body: position and orientation (w, x, y, z), and the tick it came from.
   renderedPose(name) {
-    // (The pose handed to three.js, in double precision; the GPU gets it as float32.)
+    // (Small scenes: the pose handed to three.js, in double precision; the GPU gets it as float32.
+    // Large scenes: the float32 pose in the texture the vertex shader reads, merged_bodies.js.)
     for (const b of bodies.values()) {
       if (b.name !== name || !b.placed) continue;
+      if (merged) {
+        const drawn = merged.pose(b.index);
+        return drawn && { tick: debug.lastState ? debug.lastState.tick : -1, ...drawn };
+      }
       const p = b.p, q = b.q;
       return { tick: debug.lastState ? debug.lastState.tick : -1,
                position: [p.x, p.y, p.z], orientation: [q.w, q.x, q.y, q.z] };
@@ -116,11 +125,13 @@ const debug = {
              lastDrift: driftChart.last(), lastLateness: latenessChart.last(),
              of: selected ? selected.name : 'all (max)' };
   },
-  // How many bodies the instanced meshes hold, and how many meshes (draw calls) that takes.
+  // How many bodies the meshes draw, how many meshes (draw calls) that takes, and how: 'instanced'
+  // (small scenes) or 'merged' (merged_bodies.js).
   instances() {
+    if (merged) return { meshes: merged.meshes.length, count: merged.count, path: 'merged' };
     let count = 0;
     for (const g of instanced) count += g.mesh.count;
-    return { meshes: instanced.length, count };
+    return { meshes: instanced.length, count, path: 'instanced' };
   },
 };
 window.rigidView = debug;
@@ -189,6 +200,179 @@ function geometryKey(b) {
   return JSON.stringify(kind === 'capsule' ? [kind, b.dims] : [kind, !!b.from_moments]);
 }
 
+// Large scenes drawn without instancing: one merged BufferGeometry per shape group (every body's
+// vertices in one buffer, each vertex carrying its body's slot), posed in the vertex shader from a
+// float texture of per-body position and orientation that each state rewrites (one small upload:
+// 32 bytes a body). Why: Chromium's software renderer (SwiftShader) draws an instanced mesh about
+// as slowly as one draw per instance (~0.06 ms each, bench/view/README.md), whereas one merged
+// draw costs per vertex only. The shape's scale and frame in B are baked into the vertices once
+// (normals by the inverse transpose), so the shader does only p_WBo + R_WB p_BoV.
+// (Here rather than in a module of its own: rigid-view serves a fixed list of files, server.cpp.)
+
+// Texels per row of the pose texture; a body takes two (p_WBo, placed) and (q_WB as x, y, z, w),
+// side by side in one row because the width is even.
+const kPoseWidth = 1024;
+
+// The vertex shader's additions to MeshBasicMaterial's: the body's pose fetched by slot and
+// applied to the position and normal (v' = v + 2 q.xyz x (q.xyz x v + q.w v), the rotation of v by
+// the unit quaternion q), and Lambert shading per vertex (Gouraud) instead of per pixel, which
+// halves the software rasterizer's cost per pixel (bench/view/README.md): the light of the page's
+// hemisphere (sky white, ground 0x404040, intensity 2, here about z) plus its sun (1.5 from
+// (3, -2, 5)), times the Lambert BRDF colour / pi, as three.js's MeshLambertMaterial computes it.
+// A body not yet placed has zeros: all its vertices collapse to one point, drawn as nothing.
+const kPoseShaderHeader = `
+uniform highp sampler2D bodyPoses;
+attribute float bodySlot;
+vec3 rotateByQuaternion(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
+`;
+const kPoseVertex = `
+int poseTexel = 2 * int(bodySlot + 0.5);
+ivec2 poseAt = ivec2(poseTexel % ${kPoseWidth}, poseTexel / ${kPoseWidth});
+vec4 bodyP = texelFetch(bodyPoses, poseAt, 0);
+vec4 bodyQ = texelFetch(bodyPoses, poseAt + ivec2(1, 0), 0);
+vec3 transformed = bodyP.w * (rotateByQuaternion(bodyQ, position) + bodyP.xyz);
+vec3 n_W = rotateByQuaternion(bodyQ, normal);
+vec3 irradiance = 2.0 * mix(vec3(0.0513), vec3(1.0), 0.5 * n_W.z + 0.5) +
+                  1.5 * max(dot(n_W, vec3(0.4867, -0.3244, 0.8111)), 0.0);
+vColor.rgb *= irradiance * RECIPROCAL_PI;
+`;
+
+class MergedBodies {
+  // n: the scene's bodies (slots 0..n-1).
+  constructor(n) {
+    this.n = n;
+    const rows = Math.max(1, Math.ceil((2 * n) / kPoseWidth));
+    this.poses = new Float32Array(kPoseWidth * rows * 4);
+    this.texture = new THREE.DataTexture(this.poses, kPoseWidth, rows, THREE.RGBAFormat, THREE.FloatType);
+    this.texture.minFilter = THREE.NearestFilter;
+    this.texture.magFilter = THREE.NearestFilter;
+    this.texture.generateMipmaps = false;
+    this.texture.needsUpdate = true;
+    this.meshes = [];
+    this.count = 0;  // bodies drawn (vertices in the merged buffers)
+  }
+
+  // One draw call for `members` ([{ slot, shape4 (Matrix4: the unit geometry in B), color }]) of
+  // one unit geometry, with `material` (its shader gets the pose fetch). Returns the mesh.
+  add(unit, material, members) {
+    const g = unit.index ? unit : unit.toNonIndexed();
+    const pos = g.attributes.position, nor = g.attributes.normal;
+    const nv = pos.count, ni = g.index ? g.index.count : 0;
+    const positions = new Float32Array(3 * nv * members.length);
+    const normals = new Float32Array(3 * nv * members.length);
+    const colors = new Float32Array(3 * nv * members.length);
+    const slots = new Float32Array(nv * members.length);
+    const index = new Uint32Array(ni * members.length);
+    const v = new THREE.Vector3(), normalMatrix = new THREE.Matrix3();
+    members.forEach((m, k) => {
+      normalMatrix.getNormalMatrix(m.shape4);
+      const base = k * nv;
+      for (let i = 0; i < nv; ++i) {
+        v.fromBufferAttribute(pos, i).applyMatrix4(m.shape4).toArray(positions, 3 * (base + i));
+        v.fromBufferAttribute(nor, i).applyMatrix3(normalMatrix).normalize().toArray(normals, 3 * (base + i));
+        m.color.toArray(colors, 3 * (base + i));
+        slots[base + i] = m.slot;
+      }
+      for (let i = 0; i < ni; ++i) index[k * ni + i] = base + g.index.getX(i);
+    });
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setAttribute('normal', new THREE.BufferAttribute(normals, 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    geometry.setAttribute('bodySlot', new THREE.BufferAttribute(slots, 1));
+    if (ni) geometry.setIndex(new THREE.BufferAttribute(index, 1));
+    if (g !== unit) g.dispose();
+    material.vertexColors = true;
+    material.onBeforeCompile = (shader) => {
+      shader.uniforms.bodyPoses = { value: this.texture };
+      shader.vertexShader = shader.vertexShader
+        .replace('#include <common>', `#include <common>\n${kPoseShaderHeader}`)
+        .replace('#include <begin_vertex>', kPoseVertex);
+    };
+    material.customProgramCacheKey = () => 'rigid-view merged bodies';
+    const mesh = new THREE.Mesh(geometry, material);
+    // The vertices are placed on the GPU: three's bounding sphere (from the unposed buffer) would
+    // cull wrongly.
+    mesh.frustumCulled = false;
+    this.meshes.push(mesh);
+    this.count += members.length;
+    return mesh;
+  }
+
+  // The pose of the body in `slot`: p (p_WBo) and q (q_WB), three.js vectors.
+  setPose(slot, p, q) {
+    const o = 8 * slot, a = this.poses;
+    a[o] = p.x;
+    a[o + 1] = p.y;
+    a[o + 2] = p.z;
+    a[o + 3] = 1;  // placed
+    a[o + 4] = q.x;
+    a[o + 5] = q.y;
+    a[o + 6] = q.z;
+    a[o + 7] = q.w;
+  }
+
+  // After a state's poses: upload the texture with the next frame.
+  commit() { this.texture.needsUpdate = true; }
+
+  // The pose the GPU gets for a slot (float32), or null if not placed: { position, orientation
+  // (w, x, y, z) }.
+  pose(slot) {
+    const o = 8 * slot, a = this.poses;
+    if (!(slot >= 0 && slot < this.n) || a[o + 3] !== 1) return null;
+    return { position: [a[o], a[o + 1], a[o + 2]], orientation: [a[o + 7], a[o + 4], a[o + 5], a[o + 6]] };
+  }
+
+  dispose() {
+    for (const mesh of this.meshes) {
+      mesh.removeFromParent();
+      mesh.geometry.dispose();
+      mesh.material.dispose();
+    }
+    this.meshes = [];
+    this.texture.dispose();
+  }
+}
+
+// Picking without meshes to ray-cast: the body a ray hits first, from the poses the page holds (the
+// same numbers the merged geometry is drawn from, merged_bodies.js). Each body is first tested
+// against its bounding sphere in W (cheap, rejects nearly all of them), then exactly against its
+// unit shape in the unit geometry's frame: the unit sphere for spheres and ellipsoids, the unit
+// geometry's bounding box otherwise (exact for boxes, the enclosing box for cylinders and capsules).
+
+const pickScratch = {
+  X: new THREE.Matrix4(), Xinv: new THREE.Matrix4(), ray: new THREE.Ray(), hit: new THREE.Vector3(),
+  sphere: new THREE.Sphere(new THREE.Vector3(), 1), one: new THREE.Vector3(1, 1, 1),
+};
+
+// bodies: [{ placed, p (p_WBo), q (q_WB), radius (bounding sphere about Bo), shape4 (the unit
+// geometry in B), unit: { round, box (Box3 of the unit geometry) } }]. Returns { body, point (W) }
+// of the nearest hit, or null.
+function pickBodies(ray, bodies) {
+  const { X, Xinv, hit, sphere, one } = pickScratch;
+  let best = null, bestDistance = Infinity;
+  for (const b of bodies) {
+    if (!b.placed || !b.unit) continue;
+    sphere.center.copy(b.p);
+    sphere.radius = b.radius;
+    if (!ray.intersectsSphere(sphere)) continue;
+    // The ray in the unit geometry's frame U: X_WU = X_WB X_BU, so ray_U = X_WU^-1 ray_W.
+    X.compose(b.p, b.q, one).multiply(b.shape4);
+    Xinv.copy(X).invert();
+    const local = pickScratch.ray.copy(ray).applyMatrix4(Xinv);
+    const found = b.unit.round ? local.intersectSphere(sphere.set(sphere.center.set(0, 0, 0), 1), hit)
+                               : local.intersectBox(b.unit.box, hit);
+    if (!found) continue;
+    hit.applyMatrix4(X);  // back to W
+    const distance = hit.distanceTo(ray.origin);
+    if (distance < bestDistance) {
+      bestDistance = distance;
+      best = { body: b, point: hit.clone() };
+    }
+  }
+  return best;
+}
+
 const kHidden = new THREE.Matrix4().makeScale(0, 0, 0);  // an instance not yet placed by a state
 const scratch = { m: new THREE.Matrix4(), one: new THREE.Vector3(1, 1, 1), c: new THREE.Color() };
 
@@ -200,20 +384,19 @@ function setScene(msg) {
     g.mesh.dispose();
   }
   instanced.length = 0;
+  if (merged) merged.dispose();
+  merged = null;
   bodies.clear();
   const many = msg.bodies.length > kManyBodies;
   useAntialias(!many);
-  const groups = new Map();  // key -> { first body, members }
-  msg.bodies.forEach((b, i) => {
-    const key = geometryKey(b);
-    if (!groups.has(key)) groups.set(key, { b, members: [] });
-    groups.get(key).members.push(i);
-  });
-  for (const { b, members } of groups.values()) {
+  if (many) {
+    setMergedScene(msg, groupsOf(msg));
+    return;
+  }
+  for (const { b, members } of groupsOf(msg).values()) {
     const look = { transparent: !!b.from_moments, opacity: b.from_moments ? 0.6 : 1 };
-    const material = many ? new THREE.MeshLambertMaterial(look)
-                          : new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.1, ...look });
-    const geometry = geometryOf(b, many ? members.length : 1);
+    const material = new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.1, ...look });
+    const geometry = geometryOf(b, 1);
     geometry.computeBoundingSphere();
     const mesh = new THREE.InstancedMesh(geometry, material, members.length);
     mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
@@ -238,6 +421,52 @@ function setScene(msg) {
     bodyGroup.add(mesh);
     instanced.push(g);
   }
+  sceneSet(msg);
+}
+
+// The scene's bodies by geometryKey: key -> { b (the first body), members (scene indices) }.
+function groupsOf(msg) {
+  const groups = new Map();
+  msg.bodies.forEach((b, i) => {
+    const key = geometryKey(b);
+    if (!groups.has(key)) groups.set(key, { b, members: [] });
+    groups.get(key).members.push(i);
+  });
+  return groups;
+}
+
+// A large scene: one merged geometry per group, posed on the GPU (merged_bodies.js); the scene
+// index is the body's slot in the pose texture. Picking uses pickBodies with each body's unit
+// shape (body_pick.js).
+function setMergedScene(msg, groups) {
+  merged = new MergedBodies(msg.bodies.length);
+  for (const { b, members } of groups.values()) {
+    const look = { transparent: !!b.from_moments, opacity: b.from_moments ? 0.6 : 1 };
+    // Spheres: an icosahedron (20 triangles) instead of 8x4 segments (48): in software rendering
+    // every triangle costs (10^3 bodies: 25 -> 33 frames/s, bench/view/README.md).
+    const round = b.shape === 'sphere' || b.shape === 'ellipsoid';
+    const geometry = round ? new THREE.IcosahedronGeometry(1, 0) : geometryOf(b, members.length);
+    geometry.computeBoundingSphere();
+    geometry.computeBoundingBox();
+    const unit = { round, box: geometry.boundingBox };
+    const drawn = members.map((i) => {
+      const d = msg.bodies[i];
+      const shape = shapeMatrix(d);
+      bodies.set(d.id, { id: d.id, name: d.name, shape: d.shape, index: i, group: null, instance: -1,
+                         mass: d.mass, inertia: d.inertia || null,
+                         radius: geometry.boundingSphere.radius * shape.getMaxScaleOnAxis(),
+                         shape4: shape, unit, p: new THREE.Vector3(), q: new THREE.Quaternion(),
+                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false });
+      return { slot: i, shape4: shape, color: new THREE.Color().setHex(palette[i % palette.length]) };
+    });
+    bodyGroup.add(merged.add(geometry, new THREE.MeshBasicMaterial(look), drawn));
+    geometry.dispose();
+  }
+  sceneSet(msg);
+}
+
+// What follows a new scene, however it is drawn.
+function sceneSet(msg) {
   bodyList = msg.bodies.map((d) => bodies.get(d.id)).filter((b) => b);
   drift.setBodies(bodyList, msg.gravity);
   sceneDt = Number.isFinite(msg.dt) && msg.dt > 0 ? msg.dt : 0;
@@ -280,9 +509,12 @@ function applyState(buffer) {
     b.v.set(vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]);
     b.w.set(omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]);
     b.placed = true;
-    // The instance's matrix: X_WB (pose) times the shape's scale and frame in B.
-    b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
+    // Large scenes: the pose into the vertex shader's texture; small: the instance's matrix, X_WB
+    // (pose) times the shape's scale and frame in B.
+    if (merged) merged.setPose(b.index, b.p, b.q);
+    else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
   }
+  if (merged) merged.commit();
   for (const g of instanced) {
     g.mesh.instanceMatrix.needsUpdate = true;
     g.mesh.boundingSphere = null;  // stale: recomputed by the next ray cast
@@ -353,6 +585,7 @@ function connect() {
     if (event.data instanceof ArrayBuffer) {
       const t0 = performance.now();
       applyState(event.data);
+      arrival = { worker: event.receivedAt, main: performance.timeOrigin + t0 };
       debug.stateMs += performance.now() - t0;
       return;
     }
@@ -427,6 +660,7 @@ const pointer = new THREE.Vector2();
 let grab = null;  // { id, body, local (from the CoM, in B), plane, target }
 // The body under the pointer (raycaster already set) and the hit point in W, or null.
 function pick() {
+  if (merged) return pickBodies(raycaster.ray, bodyList);
   const hit = raycaster.intersectObjects(instanced.map((g) => g.mesh), false)
     .find((h) => h.instanceId !== undefined);
   if (!hit) return null;
@@ -673,6 +907,14 @@ const driftChart = new StripChart($('plot-drift'), {
 const latenessChart = new StripChart($('plot-lateness'), {
   series: [{ name: 'tick lateness p99', color: '#81c784' }], unit: ' µs' });
 let nextSample = 0;
+// "all bodies (max: craft)": the worst body is named, so that a body the scene pushes (whose
+// energy changes by the work done on it) is seen for what it is; click a body for its own drift.
+function worstLabel(d) {
+  const name = (i) => (i >= 0 && i < bodyList.length ? bodyList[i].name : null);
+  const e = name(d.energyAt), m = name(d.momentumAt);
+  if (!e && !m) return 'all bodies (max)';
+  return `all bodies (max: ${e === m || !m ? e : !e ? m : `${e}, ${m}`})`;
+}
 function samplePlots(now) {
   if (now < nextSample) return;
   nextSample = now + 100;
@@ -680,22 +922,30 @@ function samplePlots(now) {
     stateChanged = false;
     const d = drift.worst(selected ? selected.index : -1);
     driftChart.push(now / 1000, [d.energy, d.momentum]);
-    $('plot-of').textContent = selected ? selected.name : 'all bodies (max)';
+    $('plot-of').textContent = selected ? selected.name : worstLabel(d);
     showSelected();
   }
   driftChart.draw();
   latenessChart.draw();
 }
 
-// The last 4096 latencies (ms) from rigidd's publish to the rendered frame (bench/view).
+// The last 4096 latencies (ms) from rigidd's publish to the rendered frame (bench/view), and
+// their parts: publish to the worker's receipt (rigidd, the bus, rigid-view, the WebSocket), on
+// to the main thread's (the hand-over: waits while the main thread renders), on to the end of the
+// frame that draws it (waits for the next frame, then renders it).
 let pendingStampMs = null;
+let arrival = null;  // { worker, main }: wall clock (ms) of the last state's receipt
 let statesToAck = 0;  // state frames applied and not yet drawn
 const latencies = new Float64Array(4096);
+const latencyParts = { toWorker: new Float64Array(4096), toMain: new Float64Array(4096),
+                       toFrame: new Float64Array(4096) };
 let latencyCount = 0;
 debug.rendered = 0;
 debug.renderMs = 0;  // total time in renderer.render, and in applying states (bench/view)
 debug.stateMs = 0;
 debug.latencies = () => Array.from(latencies.subarray(0, Math.min(latencyCount, latencies.length)));
+debug.latencyParts = () => Object.fromEntries(Object.entries(latencyParts).map(
+  ([k, a]) => [k, Array.from(a.subarray(0, Math.min(latencyCount, a.length)))]));
 debug.clearLatencies = () => { latencyCount = 0; };
 
 function resize() {
@@ -721,7 +971,12 @@ function frame(now) {
   for (; statesToAck > 0; --statesToAck)
     if (socket && socket.readyState === WebSocket.OPEN) socket.send('{"op":"ack"}');
   if (pendingStampMs !== null) {
-    latencies[latencyCount++ % latencies.length] = performance.timeOrigin + performance.now() - pendingStampMs;
+    const now = performance.timeOrigin + performance.now(), k = latencyCount++ % latencies.length;
+    latencies[k] = now - pendingStampMs;
+    const a = arrival && Number.isFinite(arrival.worker) ? arrival : { worker: NaN, main: NaN };
+    latencyParts.toWorker[k] = a.worker - pendingStampMs;
+    latencyParts.toMain[k] = a.main - a.worker;
+    latencyParts.toFrame[k] = now - a.main;
     pendingStampMs = null;
   }
 }

@@ -90,14 +90,17 @@ export class Drift {
     }
   }
 
-  // The largest drift over all bodies (or body k's when k >= 0).
+  // The largest drift over all bodies (or body k's when k >= 0), and which bodies have it
+  // (energyAt, momentumAt: indices in setBodies' order, -1 when every drift is 0). A body under a
+  // load of the scene file (a thruster, drag) is not free: its change is work, not error, and the
+  // page names the worst body so that such a body is not taken for the integrator's error.
   worst(k = -1) {
-    if (k >= 0) return { energy: this.energy[k], momentum: this.momentum[k] };
-    let energy = 0, momentum = 0;
+    if (k >= 0) return { energy: this.energy[k], momentum: this.momentum[k], energyAt: k, momentumAt: k };
+    let energy = 0, momentum = 0, energyAt = -1, momentumAt = -1;
     for (let i = 0; i < this.energy.length; ++i) {
-      if (this.energy[i] > energy) energy = this.energy[i];
-      if (this.momentum[i] > momentum) momentum = this.momentum[i];
+      if (this.energy[i] > energy) { energy = this.energy[i]; energyAt = i; }
+      if (this.momentum[i] > momentum) { momentum = this.momentum[i]; momentumAt = i; }
     }
-    return { energy, momentum };
+    return { energy, momentum, energyAt, momentumAt };
   }
 }

@@ -3,10 +3,12 @@
 // rendering at a few frames a second that took seconds per state (bench/view/README.md). The
 // Worker receives whole messages on its own thread and hands each ArrayBuffer over without a copy.
 // WorkerSocket has the part of WebSocket's interface app.js uses (readyState, send, close,
-// onopen, onclose, onmessage with event.data).
+// onopen, onclose, onmessage with event.data), and event.receivedAt: the worker's receipt of a
+// binary frame (ms since the epoch, as performance.timeOrigin + performance.now()).
 
 // The worker: one WebSocket; text frames and binary frames (transferred) to the page, the page's
-// texts to rigid-view.
+// texts to rigid-view. Each binary frame carries the wall clock (ms) when the worker received it:
+// the page splits its publish-to-frame latency there (bench/view).
 const kWorker = `
 let ws = null;
 onmessage = (e) => {
@@ -16,7 +18,9 @@ onmessage = (e) => {
     ws.onopen = () => postMessage({ open: true });
     ws.onclose = () => postMessage({ close: true });
     ws.onmessage = (m) => {
-      if (m.data instanceof ArrayBuffer) postMessage({ data: m.data }, [m.data]);
+      if (m.data instanceof ArrayBuffer) {
+        postMessage({ data: m.data, at: performance.timeOrigin + performance.now() }, [m.data]);
+      }
       else postMessage({ data: m.data });
     };
   } else if (typeof e.data.send === 'string' && ws && ws.readyState === 1) {
@@ -44,7 +48,7 @@ export class WorkerSocket {
       } else if (m.close) {
         this.shut();
       } else if (this.onmessage) {
-        this.onmessage({ data: m.data });
+        this.onmessage({ data: m.data, receivedAt: m.at });
       }
     };
     this.worker.onerror = () => this.shut();
