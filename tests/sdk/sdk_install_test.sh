@@ -9,7 +9,9 @@ set -euo pipefail
 build=$1
 source=$2
 work=$(mktemp -d "${TMPDIR:-/tmp}/rigid-sdk-test.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+view_pid=
+# A failing check exits at once: the rigid-view it started must not outlive the test.
+trap '[[ -n $view_pid ]] && kill "$view_pid" 2>/dev/null; rm -rf "$work"' EXIT
 prefix=$work/prefix
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
@@ -42,7 +44,7 @@ for _ in $(seq 100); do
   [[ -n $url ]] && break
   sleep 0.1
 done
-[[ -n $url ]] || { kill "$view_pid"; fail "installed rigid-view printed no URL: $(cat "$work/view.err")"; }
+[[ -n $url ]] || fail "installed rigid-view printed no URL: $(cat "$work/view.err")"
 get() {  # URL: the body, or nothing
   /usr/bin/python3 -c 'import sys, urllib.request
 print(urllib.request.urlopen(sys.argv[1], timeout=5).read().decode())' "$1" 2>/dev/null || true
@@ -51,6 +53,7 @@ page=$(get "$url")
 module=$(get "${url}three/three.module.js")
 kill "$view_pid"
 wait "$view_pid" || true
+view_pid=
 [[ $page == *"<html"* ]] || fail "installed rigid-view at $url did not serve its page"
 [[ $module == *"REVISION"* ]] || fail "installed rigid-view did not serve three.module.js"
 
