@@ -74,10 +74,15 @@ def test_states_arrive_in_order_with_numpy_arrays(rigidd: StartDaemon, bus: str)
     with client_for(d) as c, c.states(timeout=10.0) as stream:
         got = [next(stream) for _ in range(100)]
         assert stream.dropped == 0
-    ticks = [s.tick for s in got]
-    assert all(b > a for a, b in zip(ticks, ticks[1:])), ticks
-    if bus == "lcm":  # LCM on loopback loses nothing at this rate; best-effort DDS may skip
-        assert ticks == list(range(ticks[0], ticks[0] + 100))
+        ticks = [s.tick for s in got]
+        assert all(b > a for a, b in zip(ticks, ticks[1:])), ticks
+        if bus == "lcm":
+            # LCM on loopback loses nothing at this rate: every tick missing here is one rigidd
+            # itself skipped (its publisher had no time for it on a loaded machine: Stats count
+            # those), none lost on the way. Best-effort DDS may also drop.
+            missing = ticks[-1] - ticks[0] + 1 - len(ticks)
+            assert wait_for(lambda: c.stats()["tick"] > ticks[-1]), "no Stats after the states"
+            assert missing <= c.stats()["states_skipped"], (missing, c.stats(), ticks)
     for s in got:
         assert s.time == pytest.approx(s.tick * 1e-3, rel=1e-12)
         assert list(s.ids) == [0, 1] and len(s) == 2
