@@ -7,84 +7,28 @@
 //   build/bench/memory_bench [--bodies 1000000] [--models general,isotropic,...]
 //
 // Output: one line per model, "RESULT memory <model> rss_bytes_per_body X heap_bytes_per_body Y".
-#include <malloc.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <charconv>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "model_worlds.hpp"
 #include "physics/world.hpp"
 
 namespace {
 
-using rigid::physics::BodySpec;
-using rigid::physics::Frame;
-using rigid::physics::LoadSpec;
-using rigid::physics::Vec3;
+using rigid::bench::heap_bytes;
+using rigid::bench::rss_bytes;
 using rigid::physics::World;
 using rigid::physics::WorldSpec;
 
-// The bodies of throughput.cpp's models: torque-free general (racket), spheres, symmetric tops,
-// point masses, and the general body pushed by a body-fixed force off its centre (thruster).
-const char* const kModels[] = {"general", "isotropic", "axisymmetric", "point", "general_forced"};
-
-WorldSpec make_spec(const std::string& model, int n) {
-  WorldSpec ws;
-  ws.dt = 1e-3;
-  ws.g_W.setZero();
-  ws.bodies.reserve(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    BodySpec b;
-    b.name = "body_" + std::to_string(i);
-    b.use_gravity = false;
-    const double e = 1e-6 * (i % 1000);
-    if (model == "point") {
-      b.has_inertia = false;
-      b.v_WBo = Vec3(1 + e, 2, 3);
-      b.use_gravity = true;
-    } else if (model == "isotropic") {
-      b.I_B = Vec3(0.4, 0.4, 0.4).asDiagonal();
-      b.w_WB = Vec3(1 + e, 2, 3);
-      b.v_WBo = Vec3(1, 0, 0);
-    } else if (model == "axisymmetric") {
-      b.I_B = Vec3(1, 1, 1.8).asDiagonal();
-      b.w_WB = Vec3(1 + e, 0, 20);
-    } else if (model == "general") {
-      b.I_B = Vec3(1, 2, 3).asDiagonal();
-      b.w_WB = Vec3(1e-3 + e, 5, 1e-3);
-    } else {  // general_forced
-      b.mass = 2;
-      b.I_B = Vec3(0.5, 1.0, 1.3).asDiagonal();
-      b.w_WB = Vec3(0.2 + e, 0.1, 1.0);
-      ws.loads.push_back(
-          LoadSpec{.body = i, .force = {0, 0, 4}, .p_BoQ_B = {0.4, 0.1, 0}, .frame = Frame::kBody});
-    }
-    ws.bodies.push_back(std::move(b));
-  }
-  if (model == "point") ws.g_W = Vec3(0, 0, -9.81);
-  return ws;
-}
-
-double rss_bytes() {
-  std::ifstream statm("/proc/self/statm");
-  double size = 0, resident = 0;
-  statm >> size >> resident;
-  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
-}
-
-double heap_bytes() {
-  const struct mallinfo2 m = mallinfo2();
-  return static_cast<double>(m.uordblks + m.hblkhd);
-}
-
 int measure(const std::string& model, int n) {
-  const WorldSpec spec = make_spec(model, n);
+  const WorldSpec spec = rigid::bench::make_model_world(*rigid::bench::find_model(model), n);
   const double rss0 = rss_bytes(), heap0 = heap_bytes();
   World w(spec);
   const double heap = heap_bytes() - heap0;
@@ -101,7 +45,9 @@ int measure(const std::string& model, int n) {
 
 int main(int argc, char** argv) {
   int bodies = 1'000'000;
-  std::vector<std::string> models(std::begin(kModels), std::end(kModels));
+  std::vector<std::string> models;
+  for (const auto& m : rigid::bench::all_models())
+    models.emplace_back(m.name);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--bodies" && i + 1 < argc) {
@@ -115,10 +61,7 @@ int main(int argc, char** argv) {
       models.clear();
       std::stringstream ss(argv[++i]);
       for (std::string m; std::getline(ss, m, ',');) {
-        bool known = false;
-        for (const char* k : kModels)
-          known = known || m == k;
-        if (!known) {
+        if (!rigid::bench::find_model(m)) {
           std::cerr << "memory_bench: --models: unknown model '" << m << "'\n";
           return 2;
         }

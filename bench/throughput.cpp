@@ -18,9 +18,7 @@
 // Memory: the heap a World allocates when it is built (glibc's count of bytes in use, before and
 // after the constructor, the WorldSpec already built), and the resident set growth over that
 // construction and its first step (pages actually touched), both per body.
-#include <malloc.h>
 #include <time.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,88 +31,16 @@
 #include <vector>
 
 #include "hard_cases.hpp"  // thread_cpu_ns, write_meta
+#include "model_worlds.hpp"
 #include "physics/world.hpp"
 
 namespace {
 
-using rigid::physics::BodySpec;
-using rigid::physics::Frame;
-using rigid::physics::LoadSpec;
-using rigid::physics::Vec3;
+using rigid::bench::heap_bytes;
+using rigid::bench::ModelInfo;
+using rigid::bench::rss_bytes;
 using rigid::physics::World;
 using rigid::physics::WorldSpec;
-
-enum class Model { kPoint, kIsotropic, kAxisymmetric, kGeneral, kGeneralForced };
-
-struct ModelInfo {
-  Model model;
-  const char* name;
-  const char* body;  // for the report
-};
-
-constexpr ModelInfo kModels[] = {
-    {Model::kPoint, "point", "point mass under gravity"},
-    {Model::kIsotropic, "isotropic", "I = 0.4 (1, 1, 1), w0 = (1, 2, 3), moving"},
-    {Model::kAxisymmetric, "axisymmetric", "I = (1, 1, 1.8), w0 = (1, 0, 20)"},
-    {Model::kGeneral, "general", "racket: I = (1, 2, 3), w0 = (1e-3, 5, 1e-3)"},
-    {Model::kGeneralForced, "general_forced",
-     "thruster: I = (0.5, 1, 1.3), m = 2, f_B = (0, 0, 4) at (0.4, 0.1, 0)"},
-};
-
-WorldSpec make_spec(Model model, int n) {
-  WorldSpec ws;
-  ws.dt = 1e-3;
-  ws.g_W.setZero();
-  ws.bodies.reserve(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    BodySpec b;
-    b.name = "b" + std::to_string(i);
-    b.use_gravity = false;
-    const double e = 1e-6 * (i % 1000);
-    switch (model) {
-      case Model::kPoint:
-        b.has_inertia = false;
-        b.v_WBo = Vec3(1 + e, 2, 3);
-        b.use_gravity = true;
-        break;
-      case Model::kIsotropic:
-        b.I_B = Vec3(0.4, 0.4, 0.4).asDiagonal();
-        b.w_WB = Vec3(1 + e, 2, 3);
-        b.v_WBo = Vec3(1, 0, 0);
-        break;
-      case Model::kAxisymmetric:
-        b.I_B = Vec3(1, 1, 1.8).asDiagonal();
-        b.w_WB = Vec3(1 + e, 0, 20);
-        break;
-      case Model::kGeneral:
-        b.I_B = Vec3(1, 2, 3).asDiagonal();
-        b.w_WB = Vec3(1e-3 + e, 5, 1e-3);
-        break;
-      case Model::kGeneralForced:
-        b.mass = 2;
-        b.I_B = Vec3(0.5, 1.0, 1.3).asDiagonal();
-        b.w_WB = Vec3(0.2 + e, 0.1, 1.0);
-        ws.loads.push_back(LoadSpec{
-            .body = i, .force = {0, 0, 4}, .p_BoQ_B = {0.4, 0.1, 0}, .frame = Frame::kBody});
-        break;
-    }
-    ws.bodies.push_back(std::move(b));
-  }
-  if (model == Model::kPoint) ws.g_W = Vec3(0, 0, -9.81);
-  return ws;
-}
-
-double heap_bytes() {
-  const struct mallinfo2 m = mallinfo2();
-  return static_cast<double>(m.uordblks + m.hblkhd);
-}
-
-double rss_bytes() {
-  std::ifstream statm("/proc/self/statm");
-  double size = 0, resident = 0;
-  statm >> size >> resident;
-  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
-}
 
 struct Timing {
   double median = 0, fastest = 0, slowest = 0;
@@ -207,9 +133,9 @@ int main(int argc, char** argv) {
   csv << "model,integrator,bodies,ns_per_body_step,ns_fastest,ns_slowest,batches,"
          "steps_per_batch,heap_bytes_per_body,rss_bytes_per_body\n";
   const auto start = std::chrono::steady_clock::now();
-  for (const ModelInfo& m : kModels) {
+  for (const ModelInfo& m : rigid::bench::all_models()) {
     for (const int n : sizes) {
-      WorldSpec spec = make_spec(m.model, n);
+      WorldSpec spec = rigid::bench::make_model_world(m.model, n);
       for (const std::string& integrator : integrators) {
         spec.integrator = integrator;
         const double heap0 = heap_bytes(), rss0 = rss_bytes();
@@ -238,7 +164,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::string models;
-  for (const ModelInfo& m : kModels)
+  for (const ModelInfo& m : rigid::bench::all_models())
     models += "model " + std::string(m.name) + ": " + m.body + "\n";
   rigid::bench::write_meta(
       out + ".meta", quick, 0, batches,
