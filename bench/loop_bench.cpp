@@ -21,6 +21,14 @@
 //     offers a state every tick, far more than any bus carries: the states received per second are
 //     then what the bus sustains from rigidd to one subscriber (rigidd skips what its publisher
 //     cannot send; the subscriber misses what the bus drops).
+//   loop_bench paced [--bodies 1000] [--duration 10] [--steps 2000]
+//     rigidd in lockstep, driven by back-to-back step requests of --steps ticks each (the probe
+//     sends the next one when the last is answered): a step request hands over every state it
+//     promises, each only once the publisher took the previous one, so nothing is skipped and the
+//     loop sleeps while the bus works. The states received per second are then what the bus
+//     carries when every state must arrive, without fast mode's loop spinning on a core of its own
+//     (on a 2-core machine that core is half of what the bus, its cryptography and the
+//     subscriber would otherwise share). The probe's identity needs `control` with --security.
 //
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
 // --publish-every K (a state every K ticks, default 10), --point-masses (weightless point masses
@@ -51,6 +59,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -98,6 +107,7 @@ struct Options {
   std::vector<Bus> buses{Bus::kDds, Bus::kLcm};
   std::string transport = "dds,lcm";
   int publish_every = 10;
+  int steps = 2000;  // paced: ticks per step request
   bool point_masses = false;
   std::string csv, histogram;
   std::string rigidd = RIGIDD_EXE;
@@ -109,17 +119,20 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  if (argc < 2) throw std::invalid_argument("usage: loop_bench realtime|fast|timer [options]");
+  if (argc < 2) {
+    throw std::invalid_argument("usage: loop_bench realtime|fast|paced|timer [options]");
+  }
   o.mode = argv[1];
   if (o.mode == "--help" || o.mode == "-h") {
     o.mode = "help";
     return o;
   }
-  if (o.mode != "realtime" && o.mode != "fast" && o.mode != "timer") {
-    throw std::invalid_argument("expected realtime, fast or timer, got '" + o.mode + "'");
+  if (o.mode != "realtime" && o.mode != "fast" && o.mode != "paced" && o.mode != "timer") {
+    throw std::invalid_argument("expected realtime, fast, paced or timer, got '" + o.mode + "'");
   }
-  o.bodies = o.mode == "realtime" ? 1000 : 10000;
-  o.duration = o.mode == "realtime" ? 60 : 20;
+  o.bodies = o.mode == "fast" ? 10000 : 1000;
+  o.duration = o.mode == "realtime" ? 60 : o.mode == "paced" ? 10 : 20;
+  if (o.mode == "paced") o.publish_every = 1;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -142,6 +155,8 @@ Options parse(int argc, char** argv) {
       if (o.transport == "lcm" || o.transport == "dds,lcm" || o.transport == "lcm,dds")
         o.buses.push_back(Bus::kLcm);
       if (o.buses.empty()) throw std::invalid_argument("--transport: dds, lcm or dds,lcm");
+    } else if (a == "--steps") {
+      o.steps = std::stoi(value());
     } else if (a == "--publish-every") {
       o.publish_every = std::stoi(value());
     } else if (a == "--point-masses") {
@@ -162,6 +177,7 @@ Options parse(int argc, char** argv) {
   }
   if (o.bodies < 2 || o.duration <= 0) throw std::invalid_argument("bad --bodies or --duration");
   if (o.publish_every < 1) throw std::invalid_argument("bad --publish-every");
+  if (o.steps < 1) throw std::invalid_argument("bad --steps");
   return o;
 }
 
@@ -320,6 +336,29 @@ class Probe final : public rigid::transport::Receiver {
     const std::lock_guard lock(mutex_);
     stats_.push_back(s);
   }
+  void on_control_reply(const rigid::ControlReply& r) override {
+    const std::lock_guard lock(mutex_);
+    if (r.source != control_source() || r.seq != control_seq_) return;
+    reply_ = r;
+    replied_.notify_all();
+  }
+
+  // Asks rigidd (in lockstep) for `steps` ticks and waits for the answer, which comes when the
+  // last of them is done; the reply, or none within `timeout`.
+  std::optional<rigid::ControlReply> step(std::int64_t steps, std::chrono::milliseconds timeout) {
+    rigid::ControlCommand c;
+    c.source = control_source();
+    c.command = rigid::ControlKind::kStep;
+    c.steps = steps;
+    std::unique_lock lock(mutex_);
+    c.seq = ++control_seq_;
+    reply_.reset();
+    lock.unlock();
+    (void)transport_->publish(c);
+    lock.lock();
+    replied_.wait_for(lock, timeout, [&] { return reply_.has_value(); });
+    return reply_;
+  }
 
   bool ready() {
     const std::lock_guard lock(mutex_);
@@ -371,10 +410,15 @@ class Probe final : public rigid::transport::Receiver {
   }
 
  private:
+  std::int64_t control_source() const { return 2000 + static_cast<int>(bus_); }
+
   const Bus bus_;
   const int body_;
   const bool subscribe_;
   std::mutex mutex_;
+  std::condition_variable replied_;
+  std::int64_t control_seq_ = 0;
+  std::optional<rigid::ControlReply> reply_;
   std::int64_t seq_ = 0;
   bool pending_ = false;
   bool have_state_ = false;
@@ -537,7 +581,8 @@ int run(const Options& o) {
     probes.push_back(
         std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers,
                                 o.security.empty() ? "" : o.security + "/identities/bench"));
-  std::vector<std::string> args{"--scene", scene,         "--mode",    o.mode,     "--prefix",
+  const std::string mode = o.mode == "paced" ? "lockstep" : o.mode;
+  std::vector<std::string> args{"--scene", scene,         "--mode",    mode,       "--prefix",
                                 prefix,    "--transport", o.transport, "--verbose"};
   args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
   if (!o.security.empty()) {
@@ -582,6 +627,20 @@ int run(const Options& o) {
     }
     for (auto& c : controllers)
       c.join();
+  } else if (o.mode == "paced") {
+    // Step requests back to back until the time is up (the last one may end a little after).
+    std::int64_t requests = 0;
+    while (std::chrono::steady_clock::now() < end) {
+      const auto reply = probes.front()->step(o.steps, 60s);
+      if (!reply || reply->outcome != rigid::Outcome::kOk) {
+        std::fprintf(stderr, "step request %lld: %s\n%s", static_cast<long long>(requests + 1),
+                     reply ? reply->message.c_str() : "no answer within 60 s",
+                     daemon.stderr_text().c_str());
+        return 1;
+      }
+      ++requests;
+    }
+    std::printf("  %lld step requests of %d ticks\n", static_cast<long long>(requests), o.steps);
   } else {
     std::this_thread::sleep_until(end);
   }
@@ -634,7 +693,7 @@ int run(const Options& o) {
     std::vector<std::string> hist = rigidd_histogram(log, key + ",100");
     if (hist.empty()) hist = histogram_rows(key + ",100", "per_second_max", second_max);
     append_csv(o.histogram, kHistogramHeader, hist);
-  } else {
+  } else if (o.mode == "fast") {
     std::printf("RESULT fast_ns_per_body_step %.2f (whole run: %.0f ticks in %.2f s)\n",
                 ns_per_body_step, fig("ticks"), loop_wall);
     // Steady state: the per-second real-time factors from Stats (skipping the first second).
@@ -712,15 +771,16 @@ int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
     if (o.mode == "help") {
       std::printf(
-          "usage: loop_bench realtime|fast|timer [--bodies N] [--duration S] "
+          "usage: loop_bench realtime|fast|paced|timer [--bodies N] [--duration S] "
           "[--transport dds|lcm|dds,lcm]\n"
           "                  [--publish-every K] [--point-masses] [--push-every-ms MS] "
-          "[--no-subscribers]\n"
+          "[--no-subscribers] [--steps N]\n"
           "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
           "ARG]... [--security KEYSTORE]\n"
           "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
-          "body-step or states per\nsecond a bus sustains (fast), the machine's timer floor "
-          "(timer). See the comment at the top of\nbench/loop_bench.cpp.\n");
+          "body-step or states per\nsecond a bus sustains (fast), states per second a bus carries "
+          "when every one must arrive (paced),\nthe machine's timer floor (timer). See the comment "
+          "at the top of bench/loop_bench.cpp.\n");
       return 0;
     }
     return run(o);

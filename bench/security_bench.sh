@@ -2,8 +2,10 @@
 # DDS Security against plain DDS, side by side in one run (issue 10's targets): wrench-to-state
 # latency p50/p99 and tick lateness p99 at 1 kHz with 1000 bodies (loop_bench realtime), and the
 # states per second DDS carries from rigidd to one subscriber at 1000 bodies (loop_bench fast
-# --publish-every 1). Runs alternate plain, secure and secure with the state unencrypted, REPEATS
-# times each.
+# --publish-every 1), and the states per second it carries when every state must arrive (loop_bench
+# paced: lockstep step requests, which hand over each state once the last was taken, so that the
+# loop sleeps instead of spinning on a core of its own). Runs alternate plain, secure and secure
+# with the state unencrypted, REPEATS times each.
 #
 #   bench/security_bench.sh [--build DIR] [--duration S] [--repeats N]
 set -euo pipefail
@@ -23,10 +25,10 @@ export CYCLONEDDS_URI=${CYCLONEDDS_URI:-file://$here/config/cyclonedds.xml}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$here/scripts/rigid-keys" init "$work/ks" >/dev/null
-"$here/scripts/rigid-keys" add "$work/ks" bench --may push >/dev/null
+"$here/scripts/rigid-keys" add "$work/ks" bench --may push --may control >/dev/null
 # The same with the state unencrypted (rigid-keys init --state-protection none).
 "$here/scripts/rigid-keys" init "$work/ks_none" --state-protection none >/dev/null
-"$here/scripts/rigid-keys" add "$work/ks_none" bench --may push >/dev/null
+"$here/scripts/rigid-keys" add "$work/ks_none" bench --may push --may control >/dev/null
 bench=$build/bench/loop_bench
 for ((r = 1; r <= repeats; ++r)); do
   for kind in plain secure secure-state-none; do
@@ -38,5 +40,7 @@ for ((r = 1; r <= repeats; ++r)); do
     echo "== run $r: $kind: fast, 1000 point masses, a state every tick, 10 s"
     "$bench" fast --bodies 1000 --duration 10 --transport dds --publish-every 1 --point-masses \
       "${sec[@]}"
+    echo "== run $r: $kind: paced, 1000 point masses, every state, 10 s"
+    "$bench" paced --bodies 1000 --duration 10 --transport dds --point-masses "${sec[@]}"
   done
 done
