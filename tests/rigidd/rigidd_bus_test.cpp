@@ -48,8 +48,8 @@ class Rigidd : public ::testing::TestWithParam<Bus> {
              const std::string& lcm_url = "") {
     prefix_ = unique_prefix("rt");
     const std::string bus = GetParam() == Bus::kDds ? "dds" : "lcm";
-    std::vector<std::string> args{"--scene", scene,  "--transport", bus,
-                                  "--mode",  mode,   "--prefix",    prefix_};
+    std::vector<std::string> args{"--scene", scene, "--transport", bus,
+                                  "--mode",  mode,  "--prefix",    prefix_};
     if (!lcm_url.empty()) {
       args.push_back("--lcm-url");
       args.push_back(lcm_url);
@@ -92,21 +92,35 @@ physics::Vec3 body_vec(const std::vector<double>& flat, int body) {
 }
 
 TEST_P(Rigidd, StateRateIsTheScenesWithin2Percent) {
-  // The default scene: 1000 Hz, a state every 10 ticks: 100 Hz.
+  // The default scene: 1000 Hz, a state every 10 ticks: 100 Hz. The loop keeps the schedule by
+  // its overrun policy: each 1 ms slot either ticks or, when the host held the loop past it, is
+  // skipped and counted (Stats overruns). On a shared VM a stall can skip a few percent of the
+  // slots of a 3 s window, so the slots are checked with the skipped ones counted, and the state
+  // rate against the ticks that ran: a state every 10th tick.
   start(std::string(RIGID_SOURCE_DIR) + "/config/scenes/default.pbtxt");
-  ASSERT_TRUE(client_->wait([&] { return client_->states_locked().size() >= 10; }, 10s))
+  ASSERT_TRUE(client_->wait(
+      [&] { return client_->states_locked().size() >= 10 && client_->stats_locked().has_value(); },
+      10s))
       << daemon_->stderr_text();
   const std::size_t first = client_->state_count();
+  // A Stats from before the window (at most a second old): the overruns counted from it to one
+  // after the window include every slot skipped within it.
+  const rigid::StatsReport stats_before = *client_->last_stats();
   std::this_thread::sleep_for(3s);
   const std::vector<TimedState> s = client_->states();
   ASSERT_GT(s.size(), first + 100);
   const TimedState& a = s[first];
   const TimedState& b = s.back();
+  ASSERT_TRUE(client_->wait(
+      [&] { return client_->stats_locked() && client_->stats_locked()->tick > b.state.tick; }, 5s));
+  const std::int64_t skipped = client_->last_stats()->overruns - stats_before.overruns;
   const double wall = static_cast<double>(b.received_ns - a.received_ns) * 1e-9;
-  const double rate = static_cast<double>(s.size() - 1 - first) / wall;
-  EXPECT_NEAR(rate, 100.0, 2.0) << "states per second";
   const double tick_rate = static_cast<double>(b.state.tick - a.state.tick) / wall;
-  EXPECT_NEAR(tick_rate, 1000.0, 20.0) << "ticks per second";
+  EXPECT_LE(tick_rate, 1020.0) << "ticks per second";
+  EXPECT_GE(tick_rate + static_cast<double>(skipped) / wall, 980.0)
+      << "ticks per second, with the " << skipped << " slots skipped";
+  const double rate = static_cast<double>(s.size() - 1 - first) / wall;
+  EXPECT_NEAR(rate, tick_rate / 10.0, 2.0) << "states per second";
   for (std::size_t i = first; i < s.size(); ++i)
     EXPECT_EQ(s[i].state.tick % 10, 0);
   stop();
