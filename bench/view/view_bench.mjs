@@ -10,13 +10,24 @@
 // --web-dirs A,B serves each size with each page in turn (rigid-view --web-dir: an old page against
 // a new one, side by side), --repeat N runs every pair N times and prints the medians.
 //
+// --rigidd-cost: what rigid-view costs rigidd instead (issue 11: "no cost to rigidd"). One rigidd,
+// realtime, --rate (default 1000) Hz on a scene of --bodies (default 1000) bodies publishing every
+// --publish-every (default 10) ticks, runs throughout; windows of --seconds (default 20) cycle
+// through three conditions, --repeat (default 3) times: no rigid-view; rigid-view with no page;
+// rigid-view with two pages open (headless Chromium). rigidd's Stats (read by `rigidctl stats`,
+// running throughout: the same listener in every condition) give per second its tick lateness
+// p99 and its overruns; each window reports the median and the largest per-second p99 and the
+// overruns it added, and each condition the medians over its windows.
+//
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
 //                           [--web-dirs DIR,...] [--repeat N] [--csv FILE]
+//        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
+//                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
 import { createRequire } from 'node:module';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
+import { loadavg, tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 // The browser test's pinned playwright-core (npm ci --prefix tests/view): one lockfile for both.
@@ -24,16 +35,25 @@ const require = createRequire(fileURLToPath(new URL('../../tests/view/package.js
 const { chromium } = require('playwright-core');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE]`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
 if (argv.length < 2) usage('needs the paths of rigidd and rigid-view');
 const [rigidd, rigidView] = argv;
 for (const exe of [rigidd, rigidView]) if (!existsSync(exe)) usage(`no such executable: ${exe}`);
-const opt = { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null, webDirs: [null], repeat: 1 };
+// --rigidd-cost (a flag: no value) changes the defaults: see the top.
+const costMode = argv.includes('--rigidd-cost');
+const opt = costMode
+  ? { bodies: [1000], seconds: 20, rate: 1000, csv: null, webDirs: [null], repeat: 3, publishEvery: 10,
+      rigidctl: join(dirname(dirname(rigidView)), 'rigidctl') }
+  : { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null, webDirs: [null], repeat: 1, publishEvery: 1 };
 for (let i = 2; i < argv.length; i += 2) {
   const key = argv[i], value = argv[i + 1];
+  if (key === '--rigidd-cost') {
+    --i;  // a flag
+    continue;
+  }
   if (value === undefined) usage(`${key}: missing value`);
   if (key === '--bodies') {
     opt.bodies = value.split(',').map(Number);
@@ -52,9 +72,21 @@ for (let i = 2; i < argv.length; i += 2) {
     if (!(Number.isInteger(opt.repeat) && opt.repeat >= 1 && opt.repeat <= 20)) usage(`--repeat: expected an integer in [1, 20], got ${value}`);
   } else if (key === '--csv') {
     opt.csv = value;
+  } else if (key === '--publish-every') {
+    opt.publishEvery = Number(value);
+    if (!(Number.isInteger(opt.publishEvery) && opt.publishEvery >= 1 && opt.publishEvery <= 1000)) usage(`--publish-every: expected an integer in [1, 1000], got ${value}`);
+  } else if (key === '--rigidctl') {
+    opt.rigidctl = value;
   } else {
     usage(`unknown option ${key}`);
   }
+}
+
+if (costMode) {
+  if (opt.bodies.length !== 1) usage('--rigidd-cost: --bodies takes one size');
+  if (opt.webDirs.length !== 1 || opt.csv) usage('--rigidd-cost: --web-dirs and --csv do not apply');
+  if (!existsSync(opt.rigidctl)) usage(`--rigidctl: no such executable: ${opt.rigidctl}`);
+  if (opt.seconds < 5) usage('--rigidd-cost: --seconds must be at least 5 (Stats come once a second)');
 }
 
 const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
@@ -92,17 +124,19 @@ async function cleanup() {
   for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
   rmSync(work, { recursive: true, force: true });
 }
+// Ten minutes; --rigidd-cost: its windows plus a minute each to set up.
+const watchdogS = costMode ? 3 * opt.repeat * (opt.seconds + 60) + 60 : 600;
 const watchdog = setTimeout(() => {
-  console.error('view_bench: took more than 10 minutes; stopping');
+  console.error(`view_bench: took more than ${watchdogS} s; stopping`);
   cleanup().finally(() => process.exit(1));
-}, 600000);
+}, watchdogS * 1000);
 
 // n bodies on a cubic lattice 0.3 m apart around the origin, alternately spheres and boxes (two
 // meshes), each spinning about a different axis; zero gravity keeps them in view.
 function sceneText(n) {
   const side = Math.ceil(Math.cbrt(n));
   const lines = [`# view_bench: ${n} bodies`,
-                 `world { rate_hz: ${opt.rate}  publish_every: 1  gravity { } }`];
+                 `world { rate_hz: ${opt.rate}  publish_every: ${opt.publishEvery}  gravity { } }`];
   for (let i = 0; i < n; ++i) {
     const x = (i % side) - (side - 1) / 2, y = (Math.floor(i / side) % side) - (side - 1) / 2;
     const z = Math.floor(i / (side * side)) - (side - 1) / 2;
@@ -157,6 +191,86 @@ async function run(n, webDir) {
            to_frame_p50_ms: parts ? median(parts.toFrame) : NaN };
 }
 
+// --rigidd-cost (see the top): rigidd and its Stats listener run throughout; the conditions take
+// turns, each window after a settling time, so that every condition meets the same machine load.
+async function rigiddCost() {
+  const n = opt.bodies[0];
+  const sceneFile = join(work, `cost_${n}.pbtxt`);
+  writeFileSync(sceneFile, sceneText(n));
+  const bus = ['--transport', 'dds', '--prefix', `viewcost${process.pid}`];
+  const server = start(rigidd, ['--scene', sceneFile, '--mode', 'realtime', ...bus]);
+  const listener = start(opt.rigidctl, ['stats', ...bus]);
+  // Per Stats report: when it came, its tick lateness p99 (us) and overruns (since start).
+  const reports = [];
+  let pending = '';
+  listener.stdout.on('data', (d) => {
+    pending += d;
+    const lines = pending.split('\n');
+    pending = lines.pop();
+    for (const line of lines) {
+      const m = line.match(/lateness us: p50 [\d.]+ {2}p99 ([\d.]+) {2}max ([\d.]+) {3}overruns (\d+)/);
+      if (m) reports.push({ at: Date.now(), p99: Number(m[1]), max: Number(m[2]), overruns: Number(m[3]) });
+    }
+  });
+  await until('rigidd\'s first Stats', () => reports.length > 0, 30000);
+  // Whether its loop runs at real-time priority (root or CAP_SYS_NICE), and how busy the host is.
+  console.log(server.err.split('\n').filter((l) => /loop thread|started/.test(l)).join('\n'));
+  console.log(`load average at start: ${loadavg().map((x) => x.toFixed(2)).join(', ')}`);
+  const conditions = ['no rigid-view', 'rigid-view, no page', 'rigid-view, two pages'];
+  const windows = [];
+  for (let k = 0; k < opt.repeat; ++k) {
+    for (const condition of conditions) {
+      let view = null;
+      const pages = [];
+      if (condition !== 'no rigid-view') {
+        view = start(rigidView, [...bus, '--listen', '127.0.0.1:0']);
+        const url = await until('rigid-view to print its URL',
+                                () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0], 30000);
+        if (condition === 'rigid-view, two pages') {
+          for (let p = 0; p < 2; ++p) {
+            const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+            await page.goto(url);
+            await until(`${n} bodies drawn`, () => page.evaluate(`window.rigidView.bodies.length === ${n} && window.rigidView.frames >= 2`), 120000);
+            pages.push(page);
+          }
+        }
+      }
+      await sleep(3000);  // settled: rigid-view joined the bus, the pages compiled their shaders
+      const before = reports.length ? reports[reports.length - 1].overruns : 0;
+      const from = Date.now();
+      const frames0 = await Promise.all(pages.map((p) => p.evaluate('window.rigidView.rendered')));
+      await sleep(opt.seconds * 1000);
+      const frames1 = await Promise.all(pages.map((p) => p.evaluate('window.rigidView.rendered')));
+      const inside = reports.filter((r) => r.at > from + 1000 && r.at <= Date.now());
+      for (const page of pages) await page.close();
+      if (view) await stop(view);
+      if (inside.length < opt.seconds - 3) throw new Error(`${condition}: only ${inside.length} Stats reports in ${opt.seconds} s`);
+      const p99s = inside.map((r) => r.p99).sort((a, b) => a - b);
+      const w = { condition, reports: inside.length, p99_median_us: quantile(p99s, 0.5),
+                  p99_max_us: p99s[p99s.length - 1], lateness_max_us: Math.max(...inside.map((r) => r.max)),
+                  overruns: inside[inside.length - 1].overruns - before,
+                  page_fps: pages.length ? frames1.map((f, i) => (f - frames0[i]) / opt.seconds) : [] };
+      windows.push(w);
+      console.log(`window ${windows.length}: ${condition}: tick lateness p99 per second: median ` +
+                  `${w.p99_median_us.toFixed(1)} us, max ${w.p99_max_us.toFixed(1)} us; lateness max ` +
+                  `${w.lateness_max_us.toFixed(1)} us; overruns ${w.overruns} (${w.reports} Stats)` +
+                  (w.page_fps.length ? `; pages ${w.page_fps.map((f) => f.toFixed(1)).join(', ')} frames/s` : ''));
+    }
+  }
+  console.log(`load average at the end: ${loadavg().map((x) => x.toFixed(2)).join(', ')}`);
+  await stop(listener);
+  await stop(server);
+  console.log(`rigidd ${opt.rate} Hz realtime, ${n} bodies, state every ${opt.publishEvery} ticks; ` +
+              `medians over ${opt.repeat} windows of ${opt.seconds} s per condition:`);
+  for (const condition of conditions) {
+    const ws = windows.filter((w) => w.condition === condition);
+    const m = (key) => median(ws.map((w) => w[key]));
+    console.log(`  ${condition}: tick lateness p99 (median of the seconds) ${m('p99_median_us').toFixed(1)} us, ` +
+                `worst second's p99 ${m('p99_max_us').toFixed(1)} us, lateness max ${m('lateness_max_us').toFixed(1)} us, ` +
+                `overruns per window ${m('overruns')}`);
+  }
+}
+
 try {
   browser = await chromium.launch({
     executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
@@ -164,6 +278,12 @@ try {
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
+  if (costMode) {
+    await rigiddCost();
+    clearTimeout(watchdog);
+    await cleanup();
+    process.exit(0);
+  }
   const results = [];
   // Interleaved (size, page) pairs: every page meets the same machine load, run after run.
   for (let k = 0; k < opt.repeat; ++k) {

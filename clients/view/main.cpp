@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "loop/wrench_table.hpp"
 #include "playback_viewer.hpp"
 #include "protocol.hpp"
 #include "rigid/client/names.hpp"
@@ -146,16 +147,23 @@ class Viewer {
     wrenches_changed_ = true;
   }
 
-  // Pump thread, mutex held: the accepted wrenches still acting at `tick` (ttl in sim time, at
-  // least one tick), newest last; forgets the others. Nothing when nothing changed.
+  // Pump thread, mutex held: the accepted wrenches still acting at `tick` (for rigidd's
+  // ticks_to_live(ttl, dt) ticks from theirs, as the page draws them), newest last; forgets the
+  // others. Nothing when nothing changed.
   std::optional<std::vector<AcceptedCommand>> acting_wrenches(std::int64_t tick) {
     const double dt = scene_ && scene_->dt > 0 ? scene_->dt : 0;
     for (auto it = wrenches_.begin(); it != wrenches_.end();) {
-      const double ticks = dt > 0 ? std::max(1.0, it->second.ttl / dt) : 1.0;
+      const double ttl = it->second.ttl;
+      const double ticks = dt > 0 && ttl >= 0 && ttl / dt <= 1e12
+                               ? static_cast<double>(loop::ticks_to_live(ttl, dt))
+                               : 1.0;
       const double from = static_cast<double>(it->second.tick), now = static_cast<double>(tick);
-      // (A wrench may be accepted a little ahead of the newest state; far ahead: the tick went
-      // back, rigidd was reset or restarted.)
-      const bool expired = now > from + ticks || now + 100 + ticks < from;
+      // Kept a second of sim time past its last tick: the pages draw states older than this one
+      // (their frames lag, and the wrenches overtake the states on the way, server.hpp) and
+      // expire each wrench at its own tick. (A wrench may be accepted a little ahead of the
+      // newest state; far ahead: the tick went back, rigidd was reset or restarted.)
+      const double grace = dt > 0 ? 1 / dt : 1;
+      const bool expired = now > from + ticks + grace || now + 100 + ticks < from;
       if (expired) {
         it = wrenches_.erase(it);
         wrenches_changed_ = true;
@@ -178,6 +186,7 @@ class Viewer {
     std::vector<view::Bytes> out;
     if (scene_text_) out.push_back(scene_text_);
     if (stats_text_) out.push_back(stats_text_);
+    if (wrenches_text_) out.push_back(wrenches_text_);  // a page that opens while they act
     return out;
   }
 
@@ -280,12 +289,15 @@ class Viewer {
         wrenches = acting_wrenches(state.tick);
         if (wrenches) next_wrenches_ = Clock::now() + wrench_period;
       }
+      view::Bytes wrenches_text;
+      if (wrenches) {
+        wrenches_text = std::make_shared<const std::string>(view::wrenches_json(*wrenches));
+        wrenches_text_ = wrenches_text;
+      }
       lock.unlock();
       server_->broadcast_state(
           std::make_shared<const std::string>(view::encode_state(state, generation)));
-      if (wrenches)
-        server_->broadcast_text(
-            std::make_shared<const std::string>(view::wrenches_json(*wrenches)));
+      if (wrenches_text) server_->broadcast_text(std::move(wrenches_text));
       lock.lock();
     }
   }
@@ -299,7 +311,7 @@ class Viewer {
   std::optional<SceneDescription> scene_;
   std::uint64_t generation_ = 0;
   std::uint64_t seen_generation_ = 0;  // pump thread only
-  view::Bytes scene_text_, stats_text_;
+  view::Bytes scene_text_, stats_text_, wrenches_text_;
   std::deque<Job> jobs_;
   bool stopping_ = false;
   std::map<std::uint64_t, Clock::time_point> last_push_;  // server thread only

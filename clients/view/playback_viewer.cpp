@@ -2,9 +2,11 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <deque>
 #include <exception>
 #include <filesystem>
 #include <functional>
@@ -31,6 +33,8 @@ using Clock = PlaybackClock::Clock;
 
 constexpr double kFrameRate = 60;      // as live: the page never needs more
 constexpr auto kStatusPeriod = 250ms;  // the timeline's position while playing
+// States a page may still draw when a newer one's wrenches reach it (wrenches_for).
+constexpr std::size_t kRecentStates = ViewServer::kMaxUnackedStates + 2;
 
 // The file's name as the page shows it: JSON text must be UTF-8, so bytes beyond ASCII become '?'.
 std::string display_name(const std::string& path) {
@@ -127,7 +131,47 @@ class RecordingViewer {
     const std::size_t i = clock_.current(Clock::now());
     std::vector<Bytes> out{scene_text(recording_.states[i].scene), status_text(i, Clock::now())};
     if (Bytes stats = recording_.stats_at(i)) out.push_back(std::move(stats));
+    // The arrows of the state the pump sent last (the page's first state is that one, or a newer
+    // one with its own arrows before it).
+    if (!sent_wrenches_.empty()) out.push_back(wrenches_text(sent_wrenches_));
     return out;
+  }
+
+  // Mutex held, state i about to be sent: the wrenches acting on it and on the last states sent
+  // before it in its stretch. Texts overtake states on their way to a page (server.hpp), which
+  // may still be drawing one of those (at most kMaxUnackedStates behind, and one waiting): the
+  // page draws each wrench with the states whose ticks it acts on (unique within a stretch), so
+  // that an arrow neither ends early nor starts before its state arrives.
+  std::vector<std::size_t> wrenches_for(std::size_t i) {
+    if (recent_.empty() || recent_.back() != i) recent_.push_back(i);
+    if (recent_.size() > kRecentStates) recent_.pop_front();
+    std::vector<std::size_t> out;
+    for (const std::size_t j : recent_) {
+      if (recording_.states[j].stretch != recording_.states[i].stretch) continue;
+      const std::vector<std::size_t> acting = recording_.wrenches_at(j);
+      out.insert(out.end(), acting.begin(), acting.end());
+    }
+    // By (stretch, tick): wrenches.all()'s order; the newest kMaxWrenchesShown.
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    if (out.size() > kMaxWrenchesShown)
+      out.erase(out.begin(), out.end() - static_cast<std::ptrdiff_t>(kMaxWrenchesShown));
+    return out;
+  }
+
+  // The recorded wrenches acting on a state, as live mode sends them (with the tick each stops,
+  // when a newer wrench or a reset cut it short).
+  Bytes wrenches_text(const std::vector<std::size_t>& indices) const {
+    std::vector<AcceptedCommand> shown;
+    std::vector<std::int64_t> until;
+    shown.reserve(indices.size());
+    until.reserve(indices.size());
+    for (const std::size_t k : indices) {
+      const RecordedWrench& w = recording_.wrenches.all()[k];
+      shown.push_back(w.command);
+      until.push_back(w.until);
+    }
+    return std::make_shared<const std::string>(wrenches_json(shown, until));
   }
 
   Bytes scene_text(std::uint32_t scene) const {
@@ -177,6 +221,15 @@ class RecordingViewer {
       Bytes scene_changed = scene != sent_scene ? scene_text(scene) : nullptr;
       const Bytes status = status_text(i, now);
       const Bytes frame = changed ? recording_.frames[i] : nullptr;
+      // The arrows of the state shown, sent when they differ from the last ones.
+      Bytes wrenches;
+      if (changed) {
+        std::vector<std::size_t> acting = wrenches_for(i);
+        if (acting != sent_wrenches_) {
+          wrenches = wrenches_text(acting);
+          sent_wrenches_ = std::move(acting);
+        }
+      }
       Bytes stats = recording_.stats_at(i);  // the HUD's Stats as recorded at that time
       if (stats == sent_stats) {
         stats = nullptr;
@@ -190,6 +243,7 @@ class RecordingViewer {
       if (scene_changed) server_->broadcast_text(std::move(scene_changed));
       server_->broadcast_text(status);
       if (stats) server_->broadcast_text(std::move(stats));
+      if (wrenches) server_->broadcast_text(std::move(wrenches));
       if (frame) server_->broadcast_state(frame);
       lock.lock();
     }
@@ -203,6 +257,9 @@ class RecordingViewer {
   std::condition_variable wake_;
   bool changed_ = true;
   bool stopping_ = false;
+  // Guarded by mutex_: the wrenches last sent (indices into wrenches.all()), the states last sent.
+  std::vector<std::size_t> sent_wrenches_;
+  std::deque<std::size_t> recent_;
   std::thread pump_;
 };
 

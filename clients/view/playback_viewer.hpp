@@ -1,8 +1,9 @@
 // rigid-view FILE: serves a recording (recording_source.hpp) to the page instead of the bus. The
 // same server, page and frames as live; a pump sends the state the playback clock
-// (playback_clock.hpp) is at, at most kFrameRate times a second and only when it changed, and the
-// pages' play, pause, seek and speed move that clock (one clock for every page: they watch the
-// same playback).
+// (playback_clock.hpp) is at, at most kFrameRate times a second and only when it changed, with the
+// recorded wrenches acting on it when they differ from the last ones sent (the 'wrenches' message
+// of live mode, at most kMaxWrenchesShown), and the pages' play, pause, seek and speed move that
+// clock (one clock for every page: they watch the same playback).
 #pragma once
 
 #include <filesystem>

@@ -287,15 +287,18 @@ std::string stats_json(const StatsReport& s) {
   return out;
 }
 
-std::string wrenches_json(const std::vector<AcceptedCommand>& accepted) {
+std::string wrenches_json(const std::vector<AcceptedCommand>& accepted,
+                          const std::vector<std::int64_t>& until) {
   std::string out = "{\"type\":\"wrenches\",\"wrenches\":[";
   std::size_t skip = 0, wrenches = 0;
   for (const AcceptedCommand& a : accepted)
     wrenches += a.kind == AcceptedKind::kWrench ? 1 : 0;
   if (wrenches > kMaxWrenchesShown) skip = wrenches - kMaxWrenchesShown;
   const auto frame = [](Frame f) { return f == Frame::kBody ? "\"body\"" : "\"world\""; };
+  const bool with_until = until.size() == accepted.size();
   bool first = true;
-  for (const AcceptedCommand& a : accepted) {
+  for (std::size_t i = 0; i < accepted.size(); ++i) {
+    const AcceptedCommand& a = accepted[i];
     if (a.kind != AcceptedKind::kWrench) continue;
     if (skip > 0) {
       --skip;
@@ -321,6 +324,10 @@ std::string wrenches_json(const std::vector<AcceptedCommand>& accepted) {
     out += frame(a.torque_frame);
     out += ",\"key\":";
     integer(out, a.key);
+    if (with_until) {
+      out += ",\"until\":";
+      integer(out, until[i]);
+    }
     out += '}';
   }
   out += "]}";

@@ -61,10 +61,14 @@ std::string encode_state(const StateFrame& state, std::uint32_t scene_generation
 std::string scene_json(const SceneDescription& scene, std::uint64_t generation);
 std::string stats_json(const StatsReport& stats);
 // {"type":"wrenches","wrenches":[{"body":ID,"tick":T,"ttl":S,"force":[..],"force_frame":"world"|
-// "body","point":[..],"torque":[..],"torque_frame":..,"key":K}, ...]}: the accepted wrenches (kind
-// kWrench; others skipped), at most kMaxWrenchesShown, the last ones of `accepted`. A wrench acts
-// from tick to tick + max(ttl / dt, 1) (the page expires it in sim time).
-std::string wrenches_json(const std::vector<AcceptedCommand>& accepted);
+// "body","point":[..],"torque":[..],"torque_frame":..,"key":K[,"until":U]}, ...]}: the accepted
+// wrenches (kind kWrench; others skipped), at most kMaxWrenchesShown, the last ones of `accepted`.
+// A wrench accepted at tick k acts on the steps that produce the states k+1 .. k+n, n = rigidd's
+// ticks_to_live(ttl, dt) (the page draws it with those states). `until`, when not empty, has one
+// entry per element of `accepted`: the last tick it acts on when that is earlier (playback knows
+// when a recorded wrench was replaced or cleared by a reset).
+std::string wrenches_json(const std::vector<AcceptedCommand>& accepted,
+                          const std::vector<std::int64_t>& until = {});
 // {"type":"hello","read_only":B,"connection":N,"mode":"live"|"playback"}
 std::string hello_json(bool read_only, std::uint64_t connection, bool playback = false);
 // {"type":"reply","id":N,"op":"pause","ok":B,"outcome":"ok","tick":T,"message":"..."}

@@ -41,9 +41,15 @@ std::string play_elsewhere(const std::string& path) {
 // under the limit.
 class Builder {
  public:
-  // elsewhere: where to play a file too large for memory.
-  Builder(Recording& r, const LoadLimits& limits, std::string elsewhere)
-      : r_(r), limits_(limits), elsewhere_(std::move(elsewhere)) {}
+  // elsewhere: where to play a file too large for memory. states_place_wrenches: the states
+  // added are the ones the commands interleave with in the file (a journal's states come from its
+  // replay instead: its StateHash records place its commands, journal_wrenches).
+  Builder(Recording& r, const LoadLimits& limits, std::string elsewhere,
+          bool states_place_wrenches = true)
+      : r_(r),
+        limits_(limits),
+        elsewhere_(std::move(elsewhere)),
+        states_place_wrenches_(states_place_wrenches) {}
 
   // A scene that differs from the one in force (LCM repeats SceneInfo every second).
   void scene(const SceneDescription& d) {
@@ -52,7 +58,25 @@ class Builder {
       r_.scenes.back() = d;
       return;
     }
+    if (!r_.scenes.empty() && states_place_wrenches_) r_.wrenches.scene_changed();
     r_.scenes.push_back(d);
+  }
+
+  // An accepted command, in file order (only wrenches and resets matter to the arrows).
+  void command(const AcceptedCommand& a) {
+    if (a.kind != AcceptedKind::kWrench &&
+        !(a.kind == AcceptedKind::kControl && a.command == ControlKind::kReset))
+      return;
+    // The wrench, and its key in the table that finds the one it replaces (a map node).
+    const std::size_t cost = sizeof(RecordedWrench) + 96;
+    if (r_.bytes + cost > limits_.max_bytes) {
+      throw RecordingError(
+          r_.path + ": its states and accepted commands need more than " +
+          megabytes(limits_.max_bytes) + " in memory (" + std::to_string(r_.wrenches.all().size()) +
+          " wrenches read so far; --max-memory raises the limit, or " + elsewhere_ + ")");
+    }
+    r_.bytes += cost;
+    r_.wrenches.command(a, r_.scenes.empty() ? 0.0 : r_.scenes.back().dt);
   }
 
   // `s` is the reader's frame: its stamp is cleared (see below).
@@ -78,7 +102,9 @@ class Builder {
     // previous position: position = sim time + offset of the current stretch.
     if (!r_.states.empty() && s.sim_time < r_.states.back().sim_time)
       offset_ = r_.states.back().position - s.sim_time;
-    r_.states.push_back(RecordedState{s.tick, s.sim_time, s.sim_time + offset_, scene});
+    if (!r_.states.empty() && s.tick < r_.states.back().tick) ++stretch_;
+    if (states_place_wrenches_) r_.wrenches.state(s.tick);
+    r_.states.push_back(RecordedState{s.tick, s.sim_time, s.sim_time + offset_, scene, stretch_});
     r_.frames.push_back(std::move(frame));
   }
 
@@ -98,8 +124,26 @@ class Builder {
   Recording& r_;
   const LoadLimits& limits_;
   std::string elsewhere_;
+  bool states_place_wrenches_;
   double offset_ = 0;
+  std::uint32_t stretch_ = 0;
 };
+
+// A journal's commands, placed by its StateHash records (the states rigidd published, in the
+// order it journaled them with its commands: exactly the order of the replay's states).
+void journal_wrenches(const std::string& path, Builder& add, Recording& r) {
+  records::RecordReader reader(path);
+  msgs::LogRecord record;
+  AcceptedCommand a;
+  while (reader.next(record)) {
+    if (record.has_state_hash()) {
+      r.wrenches.state(record.state_hash().tick());
+    } else if (record.has_command()) {
+      records::from_record(record.command(), a);
+      add.command(a);
+    }
+  }
+}
 
 // The scene the page draws: the SceneInfo rigidd published, which it keeps in the journal's
 // header; a journal without one (not rigidd's) is described from its copy of the scene file, as
@@ -124,7 +168,8 @@ SceneDescription journal_scene(const std::string& path, const msgs::LogHeader& h
 void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits& limits) {
   r.kind = "rigidd journal, replayed";
   // rigid-record play needs states: a journal's come from rigid-sim.
-  Builder add(r, limits, "write its states with `rigid-sim --replay " + r.path + " --csv OUT`");
+  Builder add(r, limits, "write its states with `rigid-sim --replay " + r.path + " --csv OUT`",
+              false);
   sim::SimOptions o;
   o.replay = r.path;
   StateFrame frame;  // the replay's frame is const; Builder clears the stamp of its own copy
@@ -135,6 +180,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
       frame = s;
       add.state(frame);
     });
+    journal_wrenches(r.path, add, r);
   } catch (const RecordingError&) {
     throw;  // the memory limit, or the header's scene: already one line naming the file
   } catch (const std::exception& e) {
@@ -186,8 +232,12 @@ void from_rigid_log(Recording& r, const LoadLimits& limits) {
   add.scene(scene);
   StateFrame frame;
   StatsReport stats;
+  AcceptedCommand accepted;
   while (reader.next(record)) {
-    if (record.has_stats()) {
+    if (record.has_command()) {
+      records::from_record(record.command(), accepted);
+      add.command(accepted);
+    } else if (record.has_stats()) {
       records::from_record(record.stats(), stats);
       add.stats(stats);
     } else if (record.has_scene()) {
@@ -234,6 +284,7 @@ void from_lcm_log(Recording& r, const LoadLimits& limits) {
   const std::string& state_channel = names[transport::index_of(transport::Topic::kState)];
   const std::string& scene_channel = names[transport::index_of(transport::Topic::kScene)];
   const std::string& stats_channel = names[transport::index_of(transport::Topic::kStats)];
+  const std::string& accepted_channel = names[transport::index_of(transport::Topic::kAccepted)];
   transport::lcm::Codec codec;
   Builder add(r, limits, play_elsewhere(r.path));
   record::LcmLogReader reader(r.path);
@@ -241,9 +292,16 @@ void from_lcm_log(Recording& r, const LoadLimits& limits) {
   SceneDescription scene;
   StateFrame frame;
   StatsReport stats;
+  AcceptedCommand accepted;
   std::int64_t undecodable = 0;
   while (reader.next(event)) {
-    if (event.channel == stats_channel) {
+    if (event.channel == accepted_channel) {
+      if (codec.decode(event.data, accepted) == transport::DecodeStatus::kOk) {
+        add.command(accepted);
+      } else {
+        ++undecodable;
+      }
+    } else if (event.channel == stats_channel) {
       if (codec.decode(event.data, stats) == transport::DecodeStatus::kOk) {
         add.stats(stats);
       } else {
@@ -266,8 +324,8 @@ void from_lcm_log(Recording& r, const LoadLimits& limits) {
   if (reader.damage()) r.note = damage_note(*reader.damage());
   if (undecodable > 0) {
     r.note += (r.note.empty() ? "" : "; ") + std::to_string(undecodable) + " events on " +
-              state_channel + ", " + scene_channel + " or " + stats_channel +
-              " did not decode and were skipped";
+              state_channel + ", " + scene_channel + ", " + stats_channel + " or " +
+              accepted_channel + " did not decode and were skipped";
   }
   if (r.scenes.empty())
     throw RecordingError(r.path + ": no SceneInfo on " + scene_channel + ": nothing to draw");
@@ -281,6 +339,11 @@ std::shared_ptr<const std::string> Recording::stats_at(std::size_t i) const {
       std::upper_bound(stats.begin(), stats.end(), i,
                        [](std::size_t state, const Stats& s) { return state < s.first_state; });
   return after == stats.begin() ? nullptr : std::prev(after)->text;
+}
+
+std::vector<std::size_t> Recording::wrenches_at(std::size_t i) const {
+  if (i >= states.size()) return {};
+  return wrenches.acting(states[i].stretch, states[i].tick, kMaxWrenchesShown);
 }
 
 Recording load_recording(const std::string& path, const LoadLimits& limits) {
@@ -301,6 +364,7 @@ Recording load_recording(const std::string& path, const LoadLimits& limits) {
     throw RecordingError(path + ": no states to play" +
                          (r.note.empty() ? std::string() : " (" + r.note + ")"));
   }
+  r.wrenches.finish(r.scenes.empty() ? 0.0 : r.scenes.front().dt);
   return r;
 }
 

@@ -12,6 +12,10 @@
 // The timeline: each state has a position on it, its sim time, except that a recording which goes
 // back in sim time (rigidd reset while recording) carries on from where it was, so that positions
 // never decrease and a seek by time has one answer. Without a reset, position == sim time exactly.
+//
+// The accepted wrenches (a recording's and an lcm-logger log's accepted-command stream, a
+// journal's commands) are kept too, with the states they act on (recorded_wrenches.hpp), so that
+// playback draws the arrows live mode draws.
 #pragma once
 
 #include <cstddef>
@@ -21,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "recorded_wrenches.hpp"
 #include "rigid/messages.hpp"
 
 namespace rigid::view {
@@ -42,6 +47,9 @@ struct RecordedState {
   double sim_time = 0;
   double position = 0;      // on the timeline (see above)
   std::uint32_t scene = 0;  // index into Recording::scenes
+  // Counts the places before it where the tick went back (a reset, a restarted rigidd): a
+  // wrench's tick means something within its stretch only (recorded_wrenches.hpp).
+  std::uint32_t stretch = 0;
 };
 
 struct Recording {
@@ -58,21 +66,25 @@ struct Recording {
     std::shared_ptr<const std::string> text;
   };
   std::vector<Stats> stats;
-  std::size_t bytes = 0;  // what the frames and the index hold
-  std::string note;       // how the file ended when not cleanly, else ""
+  RecordedWrenches wrenches;  // the accepted wrenches, by the states they act on
+  std::size_t bytes = 0;      // what the frames, the index and the wrenches hold
+  std::string note;           // how the file ended when not cleanly, else ""
 
   // The scene generation the page sees for scenes[k] (1, 2, ...): states carry it.
   static std::uint32_t generation(std::uint32_t scene) { return scene + 1; }
   // The Stats in force at state i (the last one recorded before it), or null.
   std::shared_ptr<const std::string> stats_at(std::size_t i) const;
+  // The wrenches acting on state i (the newest last, at most kMaxWrenchesShown), as indices into
+  // wrenches.all().
+  std::vector<std::size_t> wrenches_at(std::size_t i) const;
 };
 
 // Reads `path` whole (a journal: replays it whole). Throws RecordingError: unreadable, not a
 // recording, no scene or no state, a state whose arrays disagree with its body count, larger than
-// limits.max_bytes, or a journal whose replay diverges (or cannot run: no scene, a bad one). A
-// damaged tail (a recorder or rigidd killed mid-write) is not an error: the states before it are
-// kept and `note` says where the file stopped being readable; so is a journal's gap (entries
-// rigidd lost), up to which its states are verified and kept.
+// limits.max_bytes (states and wrenches), or a journal whose replay diverges (or cannot run: no
+// scene, a bad one). A damaged tail (a recorder or rigidd killed mid-write) is not an error: the
+// states before it are kept and `note` says where the file stopped being readable; so is a
+// journal's gap (entries rigidd lost), up to which its states are verified and kept.
 Recording load_recording(const std::string& path, const LoadLimits& limits);
 
 }  // namespace rigid::view

@@ -7,12 +7,15 @@
 // wrench arrow drawn while pushing, and the push stops after release; the page's energy and
 // momentum formulas on a worked case, and the spinner's drift small; hover axes, search, selection,
 // follow, trails; the drift and lateness plots receive data; garbage from a page refused; a page
-// that acknowledges no state gets two. Screenshot: OUTDIR/rigid-view.png.
+// that acknowledges no state gets two. A pure torque in the body frame sent to the spinning body
+// (view_send_torque): a torque arrow about R_WB tau_B through the body's origin, turning by the
+// right-hand rule, drawn with exactly the states the wrench's ticks produced and gone after its
+// ttl. Screenshot: OUTDIR/rigid-view.png.
 // A large scene (view_many.pbtxt beside SCENE: more than the page's kManyBodies, drawn as merged
 // geometry posed in the vertex shader): every body drawn, the pose the shader gets for the spinning
 // probe equal to the state rigidd published (float32), the probe's colour on the screen where its
 // published pose projects and the background where no body is, and hover picking the probe.
-// usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR
+// usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR SEND_TORQUE
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -20,7 +23,7 @@ import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
-const [rigidd, rigidView, rigidctl, sceneFile, outDir] = process.argv.slice(2);
+const [rigidd, rigidView, rigidctl, sceneFile, outDir, sendTorque] = process.argv.slice(2);
 const prefix = `viewtest${process.pid}`;
 // ctest sets CYCLONEDDS_URI; by hand, the source tree's loopback config (two levels up).
 const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
@@ -312,6 +315,80 @@ try {
   // The push's work is not drift: the ball's reference is taken again after it ends.
   const ballDrift = await rv('window.rigidView.drift("ball")');
   if (!(ballDrift.energy < 1e-6 && ballDrift.momentum < 1e-6)) throw new Error(`ball drift after the push: ${JSON.stringify(ballDrift)}`);
+
+  // A pure torque, given in the spinner's frame B (rigidd turns it by R_WB when it applies it):
+  // the page must draw a circular arrow about tau_W = R_WB tau_B through p_WBo, turning by the
+  // right-hand rule, and no force arrow. 1 s at 200 Hz: it acts on the steps from its tick k for
+  // 200 ticks, so it is drawn with the states k+1 .. k+200 and then gone.
+  const tauB = [0.3, -0.1, 0.2];
+  const ttl = 1;
+  const torqueTicks = 200;  // rigidd's ticks_to_live(1 s, 5 ms)
+  const sender = start(sendTorque, [prefix, 'spinner', tauB.join(','), 'body', String(ttl)]);
+  const sent = await Promise.race([sender.done, sleep(15000).then(() => 'timeout')]);
+  if (sent !== 0) throw new Error(`view_send_torque: ${sent}: ${sender.err}`);
+  const k = Number((sender.out.match(/accepted at tick (\d+)/) || [])[1]);
+  if (!Number.isInteger(k)) throw new Error(`view_send_torque printed ${sender.out}`);
+  const spinnerId = await rv('window.rigidView.bodyState("spinner").id');
+  // Read in an animation frame after the page's own (which drew the arrows): the arrow and the
+  // state it was drawn with, with no message handled in between.
+  const inFrame = () => page.evaluate((id) => new Promise((resolve) => requestAnimationFrame(() => {
+    const v = window.rigidView;
+    resolve({ torque: v.torques.find((x) => x.body === id) || null,
+              force: v.arrows.find((x) => x.body === id) || null,
+              state: v.bodyState('spinner'), tick: v.lastState.tick });
+  })), spinnerId);
+  const seen = await until('a torque arrow on the spinner', async () => {
+    const f = await inFrame();
+    return f.torque ? f : null;
+  }, 5000);
+  if (!(seen.tick > k && seen.tick <= k + torqueTicks)) throw new Error(`torque arrow drawn with tick ${seen.tick}, accepted at ${k}`);
+  if (seen.force) throw new Error(`a force arrow for a pure torque: ${JSON.stringify(seen.force)}`);
+  {
+    // tau_W = R_WB tau_B with q_WB = (w, x, y, z): v + 2 q_v x (q_v x v + w v).
+    const [w, x, y, z] = seen.state.orientation;
+    const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    const qv = [x, y, z];
+    const t1 = cross(qv, tauB).map((c, i) => c + w * tauB[i]);
+    const tauW = cross(qv, t1).map((c, i) => tauB[i] + 2 * c);
+    const norm = Math.hypot(...tauW);
+    const axis = tauW.map((c) => c / norm);
+    const t = seen.torque;
+    const diff = (a, b) => Math.max(...a.map((c, i) => Math.abs(c - b[i])));
+    console.log(`torque arrow at tick ${seen.tick} (accepted at ${k}): tau_W ${JSON.stringify(tauW)}, drawn ${JSON.stringify(t)}`);
+    // (A BODY-frame torque drawn unrotated would be off by the spinner's turn since the reset.)
+    if (diff(t.axis, axis) > 1e-9 || diff(t.torque, tauW) > 1e-9) throw new Error(`torque axis ${t.axis}, want ${axis}`);
+    if (diff(t.center, seen.state.position) > 1e-12) throw new Error(`torque arrow about ${t.center}, the body is at ${seen.state.position}`);
+    // The cone at the arc's end: on the circle of the arc's radius in the plane perpendicular to
+    // the axis, pointing along the circle so that (tip - centre) x direction is along +axis.
+    const r = t.tip.map((c, i) => c - t.center[i]);
+    if (Math.abs(Math.hypot(...r) - t.radius) > 1e-9 || Math.abs(dot(r, axis)) > 1e-9 ||
+        Math.abs(dot(t.tipDirection, r)) > 1e-9)
+      throw new Error(`the cone is not on the arc: ${JSON.stringify(t)}`);
+    const sense = dot(cross(r, t.tipDirection), axis) / t.radius;
+    if (!(sense > 0.999)) throw new Error(`the torque arrow turns the wrong way: (r x d).axis = ${sense}`);
+    if (!(t.radius >= 0.1)) throw new Error(`torque arrow radius ${t.radius}`);
+  }
+  // Gone exactly after the ttl: the last frame drawing it shows a tick <= k + 200, the first
+  // frame without it a tick > k + 200 (frames polled one by one on the page).
+  const expiry = await page.evaluate((id) => new Promise((resolve) => {
+    let lastWith = -1;
+    const poll = () => {
+      const v = window.rigidView;
+      if (v.torques.some((x) => x.body === id)) {
+        lastWith = v.lastState.tick;
+        requestAnimationFrame(poll);
+      } else {
+        resolve({ lastWith, firstWithout: v.lastState.tick });
+      }
+    };
+    requestAnimationFrame(poll);
+    setTimeout(() => resolve(null), 8000);
+  }), spinnerId);
+  console.log(`torque arrow: accepted at tick ${k}, last drawn with tick ${expiry && expiry.lastWith}, gone at ${expiry && expiry.firstWithout}`);
+  if (!expiry) throw new Error('the torque arrow is still drawn 8 s later');
+  if (!(expiry.lastWith <= k + torqueTicks && expiry.firstWithout > k + torqueTicks))
+    throw new Error(`torque arrow expired at tick ${expiry.firstWithout} (last drawn with ${expiry.lastWith}), want just after ${k + torqueTicks}`);
 
   // Hover shows a body's axes; the list finds a body by name; selecting it shows its state, and
   // "follow" moves the camera's target to it; trails are drawn for a bounded number of bodies.

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Runs browser_test.mjs (see there); fails without Debian's chromium or `npm ci` in tests/view (scripts/dev installs both).
-# usage: view_browser_test.sh NODE RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR
+# usage: view_browser_test.sh NODE RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR SEND_TORQUE
 here=$(dirname "$0")
 node=$1
 shift

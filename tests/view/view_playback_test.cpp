@@ -5,12 +5,14 @@
 // its replay diverges; the playback clock's play, pause, seek and speed, driven with made-up times.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -253,8 +255,82 @@ class RecordingFiles : public ::testing::Test {
     return file;
   }
 
+  // A recording of states at `ticks` with accepted commands among them: each written just before
+  // the state at index `before` (the end when past the last), as rigid-record writes the two
+  // streams in the order they arrive.
+  struct Placed {
+    std::size_t before = 0;
+    AcceptedCommand command;
+  };
+  std::string write_with_commands(const std::string& name, const std::vector<std::int64_t>& ticks,
+                                  const std::vector<Placed>& commands) {
+    const std::string file = path(name);
+    records::RecordWriter w(file, false);
+    msgs::LogRecord r;
+    r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
+    r.mutable_header()->set_schema_version(records::kLogSchemaVersion);
+    records::to_record(two_bodies("first"), 0, *r.mutable_header()->mutable_scene());
+    w.append(r);
+    for (std::size_t i = 0; i <= ticks.size(); ++i) {
+      for (const Placed& c : commands) {
+        if (c.before != i && !(i == ticks.size() && c.before > i)) continue;
+        r.Clear();
+        records::to_record(c.command, 0, *r.mutable_command());
+        w.append(r);
+      }
+      if (i == ticks.size()) break;
+      r.Clear();
+      records::to_record(state_at(ticks[i]), 0, *r.mutable_state());
+      w.append(r);
+    }
+    w.close();
+    return file;
+  }
+
   fs::path dir_;
 };
+
+// A wrench accepted at `tick` (the scenes here step 0.01 s a tick).
+AcceptedCommand wrench_at(std::int64_t tick, std::int64_t seq, double ttl, std::int32_t key = 0) {
+  AcceptedCommand a;
+  a.kind = AcceptedKind::kWrench;
+  a.tick = tick;
+  a.source = 5;
+  a.seq = seq;
+  a.key = key;
+  a.body_id = 4;
+  a.force = {1, 2, 3};
+  a.ttl = ttl;
+  return a;
+}
+AcceptedCommand reset_at(std::int64_t tick) {
+  AcceptedCommand a;
+  a.kind = AcceptedKind::kControl;
+  a.command = ControlKind::kReset;
+  a.tick = tick;
+  a.source = 6;
+  a.seq = 1;
+  return a;
+}
+
+// Where each recorded wrench is shown: seq -> the (stretch, tick) of the states it acts on.
+using Shown = std::map<std::int64_t, std::vector<std::pair<std::uint32_t, std::int64_t>>>;
+Shown shown_by_seq(const Recording& r) {
+  Shown out;
+  for (std::size_t i = 0; i < r.states.size(); ++i) {
+    for (const std::size_t k : r.wrenches_at(i))
+      out[r.wrenches.all()[k].command.seq].emplace_back(r.states[i].stretch, r.states[i].tick);
+  }
+  return out;
+}
+// The states (stretch, from + 1 .. last).
+std::vector<std::pair<std::uint32_t, std::int64_t>> ticks(std::uint32_t stretch, std::int64_t from,
+                                                          std::int64_t last) {
+  std::vector<std::pair<std::uint32_t, std::int64_t>> out;
+  for (std::int64_t t = from + 1; t <= last; ++t)
+    out.emplace_back(stretch, t);
+  return out;
+}
 
 std::string what_of_load(const std::string& file, const LoadLimits& limits = {}) {
   try {
@@ -307,6 +383,101 @@ TEST_F(RecordingFiles, ATimelineCarriesOnAcrossAReset) {
   EXPECT_DOUBLE_EQ(r.states[5].position - r.states[3].position, r.states[5].sim_time);
 }
 
+TEST_F(RecordingFiles, ShowsARecordedWrenchExactlyWithTheStatesItsTicksProduced) {
+  std::vector<std::int64_t> all(31);
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = static_cast<std::int64_t>(i);
+  // A pure torque in B accepted at tick 10 for 0.05 s (5 ticks at 0.01 s: the steps 10 -> 15),
+  // written late (after the states 10 and 11); a force for one tick (ttl 0) at tick 20, written
+  // early; a control that is no reset, ignored.
+  AcceptedCommand torque = wrench_at(10, 1, 0.05);
+  torque.force = {0, 0, 0};
+  torque.torque = {0, 0, 2};
+  torque.torque_frame = Frame::kBody;
+  AcceptedCommand pause = reset_at(12);
+  pause.command = ControlKind::kPause;
+  const std::string file =
+      write_with_commands("push.rlog", all, {{12, torque}, {13, pause}, {19, wrench_at(20, 2, 0)}});
+  const Recording r = load_recording(file, {});
+  ASSERT_EQ(r.states.size(), all.size());
+  ASSERT_EQ(r.wrenches.all().size(), 2u);
+  const Shown shown = shown_by_seq(r);
+  EXPECT_EQ(shown.at(1), ticks(0, 10, 15));
+  EXPECT_EQ(shown.at(2), ticks(0, 20, 21));
+  // What the page gets with state 11: the torque with its frame, and the tick it stops at.
+  ASSERT_EQ(r.wrenches_at(11).size(), 1u);
+  const RecordedWrench& w = r.wrenches.all()[r.wrenches_at(11)[0]];
+  const std::string text = wrenches_json({w.command}, {w.until});
+  EXPECT_NE(text.find(R"("tick":10,"ttl":0.050000000000000003,)"), std::string::npos) << text;
+  EXPECT_NE(text.find(R"("torque":[0,0,2],"torque_frame":"body","key":0,"until":15})"),
+            std::string::npos)
+      << text;
+}
+
+// The ticks of a recording reset at tick 30: 0..30, then 0..10 again.
+std::vector<std::int64_t> reset_at_30_ticks() {
+  std::vector<std::int64_t> all;
+  for (std::int64_t t = 0; t <= 30; ++t)
+    all.push_back(t);
+  for (std::int64_t t = 0; t <= 10; ++t)
+    all.push_back(t);
+  return all;
+}
+
+TEST_F(RecordingFiles, ANewerWrenchWithItsKeyOrAResetCutsAWrenchShort) {
+  // Ticks 0..30, a reset at tick 30, ticks 0..10 again. A (key 1) from tick 5 for 1 s is replaced
+  // by B (key 1) at tick 12; B, for 0.5 s, is cleared by the reset; C comes after the reset, read
+  // before the reset's first state. A and B must not show in the second stretch, whose ticks
+  // 6..12 they would match, nor C in the first.
+  const std::vector<std::int64_t> all = reset_at_30_ticks();
+  const std::string file = write_with_commands("reset.rlog", all,
+                                               {{6, wrench_at(5, 1, 1.0, 1)},
+                                                {13, wrench_at(12, 2, 0.5, 1)},
+                                                {31, reset_at(30)},
+                                                {31, wrench_at(0, 3, 0.03, 1)}});
+  const Recording r = load_recording(file, {});
+  ASSERT_EQ(r.states.size(), all.size());
+  EXPECT_EQ(r.states[30].stretch, 0u);
+  EXPECT_EQ(r.states[31].stretch, 1u);
+  const Shown shown = shown_by_seq(r);
+  EXPECT_EQ(shown.at(1), ticks(0, 5, 12));  // up to the state B's first step starts from
+  EXPECT_EQ(shown.at(2), ticks(0, 12, 30));
+  EXPECT_EQ(shown.at(3), ticks(1, 0, 3));
+}
+
+TEST_F(RecordingFiles, AResetWrittenAfterItsFirstStateStillSeparatesTheStretches) {
+  // As above, but the reset's command (and a wrench D accepted just before it) written after the
+  // state of tick 0 that follows it: D belongs to the first stretch (its tick is near that
+  // stretch's last), C to the second.
+  const std::vector<std::int64_t> all = reset_at_30_ticks();
+  const std::string file = write_with_commands("late_reset.rlog", all,
+                                               {{13, wrench_at(12, 2, 0.5, 1)},
+                                                {32, wrench_at(29, 4, 0.05, 2)},
+                                                {32, reset_at(30)},
+                                                {33, wrench_at(0, 3, 0.03, 1)}});
+  const Recording r = load_recording(file, {});
+  const Shown shown = shown_by_seq(r);
+  EXPECT_EQ(shown.at(2), ticks(0, 12, 30));
+  EXPECT_EQ(shown.at(4), ticks(0, 29, 30));  // cut by the reset at 30
+  EXPECT_EQ(shown.at(3), ticks(1, 0, 3));
+}
+
+TEST_F(RecordingFiles, RefusesWrenchesBeyondTheMemoryLimit) {
+  std::vector<Placed> many;
+  for (std::int64_t i = 0; i < 100; ++i)
+    many.push_back({4, wrench_at(1, i + 1, 0.01, static_cast<std::int32_t>(i))});  // after all
+  const std::string file = write_with_commands("many.rlog", {0, 1, 2, 3}, many);
+  const Recording all = load_recording(file, {});
+  EXPECT_EQ(all.wrenches.all().size(), 100u);
+  EXPECT_EQ(all.wrenches_at(2).size(), 64u);  // the newest kMaxWrenchesShown
+  EXPECT_EQ(all.wrenches.all()[all.wrenches_at(2).back()].command.seq, 100);
+  LoadLimits limits;
+  limits.max_bytes = all.bytes - 1;
+  const std::string why = what_of_load(file, limits);
+  EXPECT_EQ(why.rfind(file + ": its states and accepted commands need more than 1 MiB", 0), 0u)
+      << why;
+}
+
 TEST_F(RecordingFiles, PlaysUpToADamagedTail) {
   const std::string file = write("cut.rlog", {0, 1, 2, 3, 4, 5, 6, 7});
   // Cut the file inside its last state (the LogEnd and a few bytes of the state before it).
@@ -353,7 +524,9 @@ TEST_F(RecordingFiles, RefusesAFileLargerThanTheLimit) {
 }
 
 // An lcm-logger log (LCM's event log format, big-endian) of rigidd's channels, with `prefix`.
-void write_lcm_log(const std::string& file, const std::string& prefix, int states) {
+// `commands`: accepted commands on its RIGID_ACCEPTED channel, each after the state `first`.
+void write_lcm_log(const std::string& file, const std::string& prefix, int states,
+                   const std::vector<std::pair<int, AcceptedCommand>>& commands = {}) {
   const transport::TopicNames names = transport::lcm_channel_names(prefix);
   transport::lcm::Codec codec;
   std::ofstream out(file, std::ios::binary);
@@ -381,6 +554,11 @@ void write_lcm_log(const std::string& file, const std::string& prefix, int state
       const auto d = codec.encode(two_bodies("lcm"));
       event(scene, {d.data(), d.size()});
     }
+    for (const auto& [after, command] : commands) {
+      if (after != i) continue;
+      const auto a = codec.encode(command);
+      event(names[transport::index_of(transport::Topic::kAccepted)], {a.data(), a.size()});
+    }
   }
 }
 
@@ -402,6 +580,17 @@ TEST_F(RecordingFiles, LoadsAnLcmLoggerLog) {
   other.lcm_prefix = "other";
   other.lcm_prefix_given = true;
   EXPECT_NE(what_of_load(file, other).find("no SceneInfo"), std::string::npos);
+}
+
+TEST_F(RecordingFiles, AnLcmLoggerLogsAcceptedWrenchesAreShown) {
+  const std::string file = path("push.log");
+  // At tick 2 for 0.02 s: the steps 2 -> 4; at tick 0 for 0.03 s, logged before the first
+  // SceneInfo (the log's dt is not known yet): the steps 0 -> 3.
+  write_lcm_log(file, "bot", 8, {{2, wrench_at(2, 1, 0.02)}, {0, wrench_at(0, 2, 0.03, 1)}});
+  const Recording r = load_recording(file, {});
+  ASSERT_EQ(r.states.size(), 8u);
+  EXPECT_EQ(shown_by_seq(r).at(1), ticks(0, 2, 4));
+  EXPECT_EQ(shown_by_seq(r).at(2), ticks(0, 0, 3));
 }
 
 // ---- journals ----------------------------------------------------------------------------------
@@ -600,6 +789,40 @@ TEST_F(JournalFiles, PlaysEveryStateRigiddPublishedFrameForFrame) {
   EXPECT_TRUE(r.stats.empty());  // a journal holds no Stats
 }
 
+TEST_F(JournalFiles, ShowsEachJournaledWrenchWithTheStatesItsTicksProduced) {
+  // The session's wrenches (SetUp), at 200 Hz: push 1 at tick 40 for 0.1 s (20 ticks), push 2 at
+  // tick 40 for one tick, push 3 at tick 71 for 0.5 s (100 ticks, but rigidd was reset at tick
+  // 121), then after the reset push 4 at tick 20 for 0.05 s (10 ticks). Only the states rigidd
+  // published are in the file (every 3rd tick and after each command).
+  struct Expected {
+    std::int64_t seq;
+    std::uint32_t stretch;
+    std::int64_t from, last;
+  };
+  const std::vector<Expected> expected{
+      {1, 0, 40, 60}, {2, 0, 40, 41}, {3, 0, 71, 121}, {4, 1, 20, 30}};
+  const Recording r = load_recording(journal_, {});
+  ASSERT_EQ(r.states.size(), live_.size());
+  ASSERT_EQ(r.wrenches.all().size(), 4u);
+  std::size_t shown = 0;
+  for (std::size_t i = 0; i < r.states.size(); ++i) {
+    std::vector<std::int64_t> want, got;
+    for (const Expected& e : expected) {
+      if (r.states[i].stretch == e.stretch && r.states[i].tick > e.from &&
+          r.states[i].tick <= e.last)
+        want.push_back(e.seq);
+    }
+    for (const std::size_t k : r.wrenches_at(i))
+      got.push_back(r.wrenches.all()[k].command.seq);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << "state " << i << ", tick " << r.states[i].tick << ", stretch "
+                         << r.states[i].stretch;
+    shown += got.size();
+  }
+  EXPECT_GT(shown, 20u);
+  EXPECT_EQ(r.states.back().stretch, 1u);
+}
+
 TEST_F(JournalFiles, ItsSceneIsDescribedFromTheSceneFileWhenTheHeaderHasNone) {
   std::vector<msgs::LogRecord> all = read_records(journal_);
   all.front().mutable_header()->clear_scene();
@@ -703,7 +926,9 @@ TEST_F(JournalFiles, TheMemoryLimitHoldsForJournalsToo) {
   LoadLimits limits;
   limits.max_bytes = all.bytes - 1;
   const std::string why = what_of_load(journal_, limits);
-  EXPECT_EQ(why.rfind(journal_ + ": its states need more than 1 MiB in memory", 0), 0u) << why;
+  // (The states come first, the commands of the journal after them: they meet the limit.)
+  EXPECT_EQ(why.rfind(journal_ + ": its states and accepted commands need more than 1 MiB", 0), 0u)
+      << why;
   limits.max_bytes = all.bytes;
   EXPECT_EQ(what_of_load(journal_, limits), "loaded");
 }

@@ -158,6 +158,16 @@ TEST(ViewProtocol, WrenchesForThePage) {
                R"("force":[1,-2,0.5],"force_frame":"body","point":[0,0,0.25],"torque":[0,0,0],)"
                R"("torque_frame":"world","key":7}]})");
   EXPECT_EQ(wrenches_json({}), R"({"type":"wrenches","wrenches":[]})");
+  // A pure torque in B, with the tick it stops at (playback: cut short by a newer wrench or a
+  // reset); `until` goes with the wrench of the same index, the control before it is skipped.
+  AcceptedCommand torque = w;
+  torque.force = {0, 0, 0};
+  torque.torque = {0.5, 0, -2};
+  torque.torque_frame = Frame::kBody;
+  EXPECT_EQ(wrenches_json({control, torque}, {0, 50}),
+            R"({"type":"wrenches","wrenches":[{"body":3,"tick":42,"ttl":0.10000000000000001,)"
+            R"("force":[0,0,0],"force_frame":"body","point":[0,0,0.25],"torque":[0.5,0,-2],)"
+            R"("torque_frame":"body","key":7,"until":50}]})");
   // A flood: only the last kMaxWrenchesShown, so a message stays small.
   accepted.clear();
   for (int i = 0; i < 1000; ++i) {

@@ -1,7 +1,8 @@
 // rigid-view's page: draws rigidd's bodies from SceneInfo and the binary state frames rigid-view
 // sends (protocol.hpp), shows Stats, sends pause/resume/step/reset and pushes (drag a body), draws
-// the accepted wrenches as arrows, a body list with the selected body's state, trails, and plots
-// of energy and angular-momentum drift (drift.js) and of tick lateness.
+// the accepted wrenches as arrows (forces) and circular arrows (torques), live or recorded, a
+// body list with the selected body's state, trails, and plots of energy and angular-momentum
+// drift (drift.js) and of tick lateness.
 // window.rigidView exposes what is drawn, for tests and for the console.
 import * as THREE from 'three';
 import { OrbitControls } from '/three/OrbitControls.js';
@@ -119,6 +120,9 @@ const debug = {
   },
   // The wrench arrows drawn now: [{ body, from (W), force (W) }].
   arrows: [],
+  // The torque arrows drawn now: [{ body, center (p_WBo), torque (W), axis (unit, W), radius,
+  // tip (the cone's base on the arc, W), tipDirection (where the cone points, W) }].
+  torques: [],
   // Samples the plots received, and the last ones.
   plots() {
     return { drift: driftChart.received, lateness: latenessChart.received,
@@ -730,9 +734,10 @@ grabLine.frustumCulled = false;
 scene.add(grabLine);
 
 // Wrench arrows: one per wrench rigidd accepted that still acts (rigid-view forwards the newest
-// per source, body and key, at most kMaxWrenchesShown = 64, 20 times a second), at its application
-// point, along its force, kArrowMetresPerNewton long. A wrench acts from its tick for
-// max(ttl / dt, 1) ticks (rigidd's table): the arrow goes when the sim time passes that.
+// per source, body and key, at most kMaxWrenchesShown = 64, 20 times a second; in playback the
+// recorded ones acting on the state shown), at its application point, along its force,
+// kArrowMetresPerNewton long; and for its torque, a circular arrow about the torque's axis
+// through the body's origin (torqueArcs, below).
 const kMaxArrows = 64;
 const kArrowMetresPerNewton = 0.01;
 let wrenches = [];
@@ -742,15 +747,32 @@ const isVec3 = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFin
 function setWrenches(msg) {
   if (!Array.isArray(msg.wrenches)) return;
   wrenches = msg.wrenches.slice(-kMaxArrows).filter((w) => w && Number.isInteger(w.body) &&
-    Number.isFinite(w.tick) && Number.isFinite(w.ttl) && isVec3(w.force) && isVec3(w.point));
+    Number.isFinite(w.tick) && Number.isFinite(w.ttl) && isVec3(w.force) && isVec3(w.point) &&
+    (w.torque === undefined || isVec3(w.torque)));
+}
+// rigidd's ticks_to_live (server/loop/wrench_table.cpp): the ticks a wrench acts for, ttl / dt
+// rounded up (a ratio within 1e-9 of an integer counts as that integer), at least 1.
+function ticksToLive(ttl, dt) {
+  const ratio = ttl / dt, nearest = Math.round(ratio);
+  const ticks = Math.abs(ratio - nearest) <= 1e-9 * Math.max(1, nearest) ? nearest : Math.ceil(ratio);
+  return Math.max(1, ticks);
+}
+// Accepted at tick k, a wrench acts on the steps k -> k+1 ... k+n-1 -> k+n: it is drawn with the
+// states those steps produced, k < tick <= k + n, and not past `until` (playback: replaced by a
+// newer wrench with its key, or cleared by a reset). Force and torque arrows alike.
+function acting(w, tick) {
+  if (tick <= w.tick) return false;
+  if (Number.isInteger(w.until) && tick > w.until) return false;
+  return !(sceneDt > 0) || tick <= w.tick + ticksToLive(w.ttl, sceneDt);
 }
 function updateArrows() {
-  const now = debug.lastState ? debug.lastState.simTime : 0;
+  const tick = debug.lastState ? debug.lastState.tick : -Infinity;
   const drawn = [];
+  const twisted = [];
   for (const w of wrenches) {
     const b = bodies.get(w.body);
-    if (!b || !b.placed) continue;
-    if (sceneDt > 0 && now > (w.tick + Math.max(w.ttl / sceneDt, 1)) * sceneDt + 1e-9) continue;
+    if (!b || !b.placed || !acting(w, tick)) continue;
+    if (w.torque) torqueArcs.draw(w, b, twisted);
     // Application point in W: p_WBo + R_WB p_BoP; the force in W (R_WB f_B when given in B).
     const from = new THREE.Vector3(...w.point).applyQuaternion(b.q).add(b.p);
     const f = new THREE.Vector3(...w.force);
@@ -770,8 +792,62 @@ function updateArrows() {
     drawn.push({ body: w.body, from: from.toArray(), force: f.toArray() });
   }
   for (let k = drawn.length; k < arrows.length; ++k) arrows[k].visible = false;
+  torqueArcs.hideFrom(twisted.length);
   debug.arrows = drawn;
+  debug.torques = twisted;
 }
+
+// Torque arrows: for a wrench's torque tau (N m; in W, or R_WB tau_B when given in B), an arc of
+// 270 degrees in the plane through p_WBo perpendicular to tau, ending in a cone: the arc turns
+// about tau by the right-hand rule (counter-clockwise seen from the tip of tau). Its radius is the
+// body's (its bounding sphere about Bo) plus a margin, so it stays outside the body; its size
+// says nothing of |tau| (a torque has no point to scale from). One unit arc about z (three.js's
+// TorusGeometry: from +x counter-clockwise, here to -y, where the cone points along +x, the arc's
+// tangent there), posed per torque: z -> the axis, scaled by the radius.
+const kTorqueColor = 0x64ffda;  // not the force arrows' amber, nor a body's colour (palette)
+const kTorqueArc = 1.5 * Math.PI;
+const torqueArcs = {
+  pool: [],
+  unit: null,
+  make() {
+    if (!this.unit) {
+      const material = new THREE.MeshBasicMaterial({ color: kTorqueColor });
+      const cone = new THREE.ConeGeometry(0.09, 0.3, 12);  // along +y, centred
+      cone.rotateZ(-Math.PI / 2);                           // along +x
+      cone.translate(0.15, -1, 0);                          // its base on the arc's end, (0, -1, 0)
+      this.unit = { arc: new THREE.TorusGeometry(1, 0.025, 6, 36, kTorqueArc), cone, material };
+    }
+    const group = new THREE.Group();
+    group.add(new THREE.Mesh(this.unit.arc, this.unit.material));
+    group.add(new THREE.Mesh(this.unit.cone, this.unit.material));
+    scene.add(group);
+    return group;
+  },
+  // Draws w's torque on body b (if not zero) and adds what is drawn to `out`.
+  draw(w, b, out) {
+    const tau = new THREE.Vector3(...w.torque);
+    if (w.torque_frame === 'body') tau.applyQuaternion(b.q);  // tau_W = R_WB tau_B
+    const size = tau.length();
+    if (!(size > 1e-12) || out.length >= kMaxArrows) return;
+    const k = out.length;
+    const g = this.pool[k] || (this.pool[k] = this.make());
+    const axis = tau.clone().divideScalar(size);
+    const radius = Math.max(1.3 * b.radius, 0.1);
+    g.position.copy(b.p);
+    g.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), axis);
+    g.scale.setScalar(radius);
+    g.visible = true;
+    g.updateMatrix();
+    // Where the cone is and where it points, from the pose given to three.js (what is drawn).
+    const tip = new THREE.Vector3(0, -1, 0).applyMatrix4(g.matrix);
+    const tipDirection = new THREE.Vector3(1, 0, 0).applyQuaternion(g.quaternion);
+    out.push({ body: w.body, center: b.p.toArray(), torque: tau.toArray(), axis: axis.toArray(),
+               radius, tip: tip.toArray(), tipDirection: tipDirection.toArray() });
+  },
+  hideFrom(k) {
+    for (; k < this.pool.length; ++k) this.pool[k].visible = false;
+  },
+};
 
 // Hover: the body's axes (x red, y green, z blue: B), sized to the body.
 let hovered = null;
