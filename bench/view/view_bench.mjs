@@ -23,7 +23,6 @@
 //                           [--web-dirs DIR,...] [--repeat N] [--csv FILE]
 //        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
 //                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
-import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { loadavg, tmpdir } from 'node:os';
@@ -33,6 +32,7 @@ import { fileURLToPath } from 'node:url';
 // The browser test's pinned playwright-core (npm ci --prefix tests/view): one lockfile for both.
 const require = createRequire(fileURLToPath(new URL('../../tests/view/package.json', import.meta.url)));
 const { chromium } = require('playwright-core');
+const { Processes, sleep, until: untilEvery } = await import('../../tests/view/processes.mjs');
 
 function usage(message) {
   console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]`);
@@ -89,39 +89,16 @@ if (costMode) {
   if (opt.seconds < 5) usage('--rigidd-cost: --seconds must be at least 5 (Stats come once a second)');
 }
 
-const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
-const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || `file://${loopbackConfig}` };
 const work = mkdtempSync(join(tmpdir(), 'rigid-view-bench-'));
-const children = [];
+const processes = new Processes();
+const start = (exe, args) => processes.start(exe, args);
+const stop = (child) => processes.stop(child);
+const until = (what, check, ms) => untilEvery(what, check, ms, 100);
 let browser = null;
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-function start(exe, args) {
-  const child = spawn(exe, args, { env, stdio: ['ignore', 'pipe', 'pipe'] });
-  child.out = '';
-  child.err = '';
-  child.stdout.on('data', (d) => { child.out += d; });
-  child.stderr.on('data', (d) => { child.err += d; });
-  child.done = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
-  children.push(child);
-  return child;
-}
-async function stop(child) {
-  if (child.exitCode === null) child.kill('SIGTERM');
-  await Promise.race([child.done, sleep(5000)]);
-}
-async function until(what, check, ms) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await check();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
-    await sleep(100);
-  }
-}
 async function cleanup() {
   if (browser) await browser.close().catch(() => {});
-  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  processes.stopAll();
   rmSync(work, { recursive: true, force: true });
 }
 // Ten minutes; --rigidd-cost: its windows plus a minute each to set up.
@@ -323,7 +300,7 @@ try {
   await cleanup();
 } catch (e) {
   console.error(`view_bench: ${e.message}`);
-  for (const c of children) if (c.err) console.error(`--- ${c.spawnargs[0]} stderr:\n${c.err.slice(-2000)}`);
+  for (const c of processes.children) if (c.err) console.error(`--- ${c.spawnargs[0]} stderr:\n${c.err.slice(-2000)}`);
   await cleanup();
   process.exit(1);
 }

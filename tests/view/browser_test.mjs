@@ -16,58 +16,37 @@
 // probe equal to the state rigidd published (float32), the probe's colour on the screen where its
 // published pose projects and the background where no body is, and hover picking the probe.
 // usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR SEND_TORQUE
-import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+
+import { Processes, sleep, until as untilOr } from './processes.mjs';
 
 const [rigidd, rigidView, rigidctl, sceneFile, outDir, sendTorque] = process.argv.slice(2);
 const prefix = `viewtest${process.pid}`;
-// ctest sets CYCLONEDDS_URI; by hand, the source tree's loopback config (two levels up).
-const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
-const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || `file://${loopbackConfig}` };
 const bus = ['--transport', 'dds', '--prefix', prefix];
 const manyBus = ['--transport', 'dds', '--prefix', `${prefix}many`];
 const manyScene = join(dirname(sceneFile), 'view_many.pbtxt');
-const children = [];
+const processes = new Processes();
+const start = (exe, args) => processes.start(exe, args);
 let browser = null;
 const consoleErrors = [];
 const profile = mkdtempSync(join(tmpdir(), 'rigid-view-chromium-'));
 
-function start(exe, args) {
-  const child = spawn(exe, args, { env, stdio: ['ignore', 'pipe', 'pipe'] });
-  child.out = '';
-  child.err = '';
-  child.stdout.on('data', (d) => { child.out += d; });
-  child.stderr.on('data', (d) => { child.err += d; });
-  child.done = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
-  children.push(child);
-  return child;
-}
 async function cleanup() {
   if (browser) await browser.close().catch(() => {});
-  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  processes.stopAll();
   rmSync(profile, { recursive: true, force: true });
 }
 function fail(message) {
   console.error(`FAIL: ${message}`);
   if (consoleErrors.length) console.error(`console errors: ${consoleErrors.join(' | ')}`);
-  for (const c of children) console.error(`--- ${c.spawnargs[0]} stderr:\n${c.err}`);
+  console.error(processes.stderrs());
   cleanup().finally(() => process.exit(1));
 }
 const deadline = setTimeout(() => fail('took more than 140 s'), 140000);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-async function until(what, check, ms = 15000) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await check();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
-    await sleep(50);
-  }
-}
+const until = (what, check, ms = 15000) => untilOr(what, check, ms);
 
 // The large scene's checks (see the top): its own rigidd and rigid-view, a second page.
 async function manyBodies() {
@@ -96,7 +75,7 @@ async function manyBodies() {
   }));
   if (!reply || !reply.ok) throw new Error(`large scene: pause answered ${JSON.stringify(reply)}`);
   const echo = start(rigidctl, ['echo', '--csv', '--count', '1', '--timeout', '20', ...manyBus]);
-  const code = await Promise.race([echo.done, sleep(25000).then(() => 'timeout')]);
+  const code = await Processes.exited(echo, 25000);
   if (code !== 0) throw new Error(`rigidctl echo (large scene): ${code}: ${echo.err}`);
   const row = echo.out.split('\n').find((l) => l.split(',')[1] === 'probe');
   if (!row) throw new Error(`no probe row in rigidctl's output: ${echo.out.slice(0, 500)}`);
@@ -239,7 +218,7 @@ try {
   // While paused, the state rigidd publishes (read by rigidctl echo, an independent subscriber)
   // and the pose drawn for the spinner must be the same numbers.
   const echo = start(rigidctl, ['echo', '--csv', '--count', '1', '--timeout', '20', ...bus]);
-  const code = await Promise.race([echo.done, sleep(25000).then(() => 'timeout')]);
+  const code = await Processes.exited(echo, 25000);
   if (code !== 0) throw new Error(`rigidctl echo: ${code}: ${echo.err}`);
   const row = echo.out.split('\n').find((l) => l.split(',')[1] === 'spinner');
   if (!row) throw new Error(`no spinner row in rigidctl's output: ${echo.out}`);
@@ -271,7 +250,7 @@ try {
   // for the push while the button is held; after release the velocity stays constant.
   async function echoBody(name) {
     const e = start(rigidctl, ['echo', '--csv', '--count', '1', '--timeout', '10', ...bus]);
-    const c = await Promise.race([e.done, sleep(15000).then(() => 'timeout')]);
+    const c = await Processes.exited(e, 15000);
     if (c !== 0) throw new Error(`rigidctl echo: ${c}: ${e.err}`);
     const r = e.out.split('\n').find((l) => l.split(',')[1] === name);
     if (!r) throw new Error(`no ${name} row in rigidctl's output: ${e.out}`);

@@ -12,57 +12,36 @@
 // the states its ticks produced (k < tick <= k + 40), in the recording and in the journal.
 // Screenshot: OUTDIR/rigid-view-playback.png.
 // usage: node playback_test.mjs RIGIDD RIGID_RECORD RIGID_VIEW SCENE OUTDIR RIGIDCTL
-import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+
+import { Processes, sleep, until as untilOr } from './processes.mjs';
 
 const [rigidd, rigidRecord, rigidView, sceneFile, outDir, rigidctl] = process.argv.slice(2);
 const prefix = `viewplay${process.pid}`;
-// ctest sets CYCLONEDDS_URI; by hand, the source tree's loopback config (two levels up).
-const loopbackConfig = fileURLToPath(new URL('../../config/cyclonedds.xml', import.meta.url));
-const env = { ...process.env, CYCLONEDDS_URI: process.env.CYCLONEDDS_URI || `file://${loopbackConfig}` };
 const bus = ['--transport', 'dds', '--prefix', prefix];
 const work = mkdtempSync(join(tmpdir(), 'rigid-view-playback-'));
-const children = [];
+const processes = new Processes();
+const start = (exe, args) => processes.start(exe, args);
 let browser = null;
 const consoleErrors = [];
 
-function start(exe, args) {
-  const child = spawn(exe, args, { env, stdio: ['ignore', 'pipe', 'pipe'] });
-  child.out = '';
-  child.err = '';
-  child.stdout.on('data', (d) => { child.out += d; });
-  child.stderr.on('data', (d) => { child.err += d; });
-  child.done = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
-  children.push(child);
-  return child;
-}
 async function cleanup() {
   if (browser) await browser.close().catch(() => {});
-  for (const c of children) if (c.exitCode === null && c.signalCode === null) process.kill(c.pid, 'SIGTERM');
+  processes.stopAll();
   rmSync(work, { recursive: true, force: true });
 }
 function fail(message) {
   console.error(`FAIL: ${message}`);
   if (consoleErrors.length) console.error(`console errors: ${consoleErrors.join(' | ')}`);
-  for (const c of children) console.error(`--- ${c.spawnargs.join(' ')} stderr:\n${c.err}`);
+  console.error(processes.stderrs());
   cleanup().finally(() => process.exit(1));
 }
 const deadline = setTimeout(() => fail('took more than 80 s'), 80000);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const exited = (child, ms) => Promise.race([child.done, sleep(ms).then(() => 'timeout')]);
-async function until(what, check, ms = 10000) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await check();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
-    await sleep(30);
-  }
-}
+const exited = (child, ms) => Processes.exited(child, ms);
+const until = (what, check, ms = 10000) => untilOr(what, check, ms);
 
 try {
   // A 3 s recording of rigidd (200 Hz, every tick published), and its states as CSV; rigidd's
