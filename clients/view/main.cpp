@@ -360,11 +360,7 @@ int main(int argc, char** argv) {
     while (!signals.wait(1s)) {
     }
     viewer.stop();
-    const view::ServerCounts& c = viewer.counts();
-    std::cerr << "rigid-view: stopped; pages " << c.pages_connected << ", states sent "
-              << c.states_sent << ", dropped for slow pages " << c.states_dropped
-              << ", refused: frames " << c.frames_refused << ", commands " << c.commands_refused
-              << ", connections " << c.connections_refused << ", http " << c.http_refused << '\n';
+    std::cerr << "rigid-view: " << view::describe(viewer.counts()) << '\n';
     return clients::kExitOk;
   } catch (const std::exception& e) {
     std::cerr << "rigid-view: " << e.what() << '\n';

@@ -300,11 +300,7 @@ int serve_recording(const ViewOptions& options, const std::filesystem::path& web
     while (!signals.wait(1s)) {
     }
     viewer.stop();
-    const ServerCounts& c = viewer.counts();
-    std::cerr << "rigid-view: stopped; pages " << c.pages_connected << ", states sent "
-              << c.states_sent << ", dropped for slow pages " << c.states_dropped
-              << ", refused: frames " << c.frames_refused << ", commands " << c.commands_refused
-              << ", connections " << c.connections_refused << ", http " << c.http_refused << '\n';
+    std::cerr << "rigid-view: " << describe(viewer.counts()) << '\n';
     return clients::kExitOk;
   } catch (const std::exception& e) {
     std::cerr << "rigid-view: " << e.what() << '\n';

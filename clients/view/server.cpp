@@ -45,6 +45,15 @@ constexpr std::array<std::array<const char*, 3>, 9> kFiles{{
 
 }  // namespace
 
+std::string describe(const ServerCounts& c) {
+  return "stopped; pages " + std::to_string(c.pages_connected) + ", states sent " +
+         std::to_string(c.states_sent) + ", dropped for slow pages " +
+         std::to_string(c.states_dropped) + ", refused: frames " +
+         std::to_string(c.frames_refused) + ", commands " + std::to_string(c.commands_refused) +
+         ", connections " + std::to_string(c.connections_refused) + ", http " +
+         std::to_string(c.http_refused);
+}
+
 class Page;
 
 class ViewServer::Impl {

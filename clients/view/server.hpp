@@ -36,6 +36,9 @@ struct ServerCounts {
   std::atomic<std::int64_t> texts_dropped{0};
 };
 
+// rigid-view's closing line: "stopped; pages N, states sent N, ..." (without the program name).
+std::string describe(const ServerCounts& c);
+
 struct ServerOptions {
   std::string host = "127.0.0.1";
   std::uint16_t port = 8765;
