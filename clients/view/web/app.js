@@ -22,9 +22,15 @@ const $ = (id) => document.getElementById(id);
 // rate, PBR shading costs a third, spheres of 16x8 segments instead of 8x4 half of it again.
 // They are also drawn without instancing (merged_bodies.js): SwiftShader's cost is per instance.
 const kManyBodies = 256;
+// The render scale (a fraction of devicePixelRatio): lowered while the page draws fewer than
+// kSlowFps frames a second, raised again after kRaiseAfter seconds at kFastFps or more. Measured
+// in headless Chromium's software renderer (bench/view/README.md): half the resolution draws 10^3
+// bodies 1.5x as fast (the rasterizer's cost is per pixel there) and 10^4 1.3x.
+const kScaleMin = 0.5, kScaleStep = 0.75, kSlowFps = 50, kFastFps = 57, kRaiseAfter = 10;
+let renderScale = 1;
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
-  r.setPixelRatio(window.devicePixelRatio);
+  r.setPixelRatio(window.devicePixelRatio * renderScale);
   return r;
 }
 let renderer = makeRenderer(true);
@@ -392,6 +398,8 @@ function setScene(msg) {
   merged = null;
   bodies.clear();
   const many = msg.bodies.length > kManyBodies;
+  setRenderScale(1);  // a new scene: its own frame rate decides
+  Object.assign(scaleWindow, { start: null, fast: 0 });
   useAntialias(!many);
   if (many) {
     setMergedScene(msg, groupsOf(msg));
@@ -1032,7 +1040,38 @@ function resize() {
 }
 window.addEventListener('resize', resize);
 resize();
+// Dynamic resolution (see kScaleMin): one decision per second of frames, only while the page is
+// shown (a hidden page gets no frames to count).
+const scaleWindow = { start: null, frames: 0, fast: 0 };
+function setRenderScale(scale) {
+  if (scale === renderScale) return;
+  renderScale = scale;
+  renderer.setPixelRatio(window.devicePixelRatio * renderScale);
+  resize();
+}
+function adaptRenderScale(now) {
+  if (scaleWindow.start === null || document.visibilityState !== 'visible') {
+    Object.assign(scaleWindow, { start: now, frames: 0 });
+    return;
+  }
+  ++scaleWindow.frames;
+  if (now - scaleWindow.start < 1000) return;
+  const fps = (scaleWindow.frames * 1000) / (now - scaleWindow.start);
+  Object.assign(scaleWindow, { start: now, frames: 0 });
+  if (fps < kSlowFps) {
+    scaleWindow.fast = 0;
+    setRenderScale(Math.max(kScaleMin, renderScale * kScaleStep));
+  } else if (fps >= kFastFps && renderScale < 1 && ++scaleWindow.fast >= kRaiseAfter) {
+    scaleWindow.fast = 0;
+    setRenderScale(Math.min(1, renderScale / kScaleStep));
+  } else if (fps < kFastFps) {
+    scaleWindow.fast = 0;
+  }
+}
+debug.renderScale = () => renderScale;
+
 function frame(now) {
+  adaptRenderScale(now);
   sendPush();
   updateHover();
   updateArrows();
