@@ -140,10 +140,9 @@ TEST(WorldModel, EachBodyCompilesToTheCheapestExactModel) {
   EXPECT_EQ(w.find_body("nope"), -1);
 }
 
-// A full tensor is diagonalised at load and its principal frame kept: the state reported in B
-// is the state given in B, for every model.
-TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
-  const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+// One body of each model (isotropic, axisymmetric both ways, general), each with its inertia
+// given in a frame B tilted from its principal frame by `tilt`.
+WorldSpec tilted_bodies(const Quat& tilt) {
   WorldSpec ws;
   int k = 0;
   for (const Vec3& I : {Vec3(2, 2, 2), Vec3(1, 1, 1.5), Vec3(1, 2, 2), Vec3(1, 2, 2.5)}) {
@@ -151,6 +150,14 @@ TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
     b.I_B = rotated(I, tilt);
     ws.bodies.push_back(b);
   }
+  return ws;
+}
+
+// A full tensor is diagonalised at load and its principal frame kept: the state reported in B
+// is the state given in B, for every model.
+TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
+  const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  WorldSpec ws = tilted_bodies(tilt);
   World w(ws);
   const BodyState in{{1, -2, 3},
                      Quat(Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized())),
@@ -382,13 +389,7 @@ TEST(WorldCold, EveryNameIsFoundAndTheFirstRepeatIsTheDuplicate) {
 
 TEST(WorldCold, MomentsAndPrincipalFramesComeFromTheModel) {
   const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
-  WorldSpec ws;
-  int k = 0;
-  for (const Vec3& I : {Vec3(2, 2, 2), Vec3(1, 1, 1.5), Vec3(1, 2, 2), Vec3(1, 2, 2.5)}) {
-    BodySpec b = body("b" + std::to_string(k++), I);
-    b.I_B = rotated(I, tilt);
-    ws.bodies.push_back(b);
-  }
+  WorldSpec ws = tilted_bodies(tilt);
   BodySpec kin = body("kinematic", {1, 2, 2.5}, {0, 0, 1});
   kin.kinematic = true;
   ws.bodies.push_back(kin);

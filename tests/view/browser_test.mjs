@@ -16,12 +16,12 @@
 // probe equal to the state rigidd published (float32), the probe's colour on the screen where its
 // published pose projects and the background where no body is, and hover picking the probe.
 // usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR SEND_TORQUE
-import { mkdtempSync, rmSync } from 'node:fs';
+import { mkdtempSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import { chromium } from 'playwright-core';
 
-import { Processes, sleep, until as untilOr } from './processes.mjs';
+import { browserHarness, Processes, sleep, until as untilOr } from './processes.mjs';
 
 const [rigidd, rigidView, rigidctl, sceneFile, outDir, sendTorque] = process.argv.slice(2);
 const prefix = `viewtest${process.pid}`;
@@ -30,22 +30,9 @@ const manyBus = ['--transport', 'dds', '--prefix', `${prefix}many`];
 const manyScene = join(dirname(sceneFile), 'view_many.pbtxt');
 const processes = new Processes();
 const start = (exe, args) => processes.start(exe, args);
-let browser = null;
-const consoleErrors = [];
 const profile = mkdtempSync(join(tmpdir(), 'rigid-view-chromium-'));
-
-async function cleanup() {
-  if (browser) await browser.close().catch(() => {});
-  processes.stopAll();
-  rmSync(profile, { recursive: true, force: true });
-}
-function fail(message) {
-  console.error(`FAIL: ${message}`);
-  if (consoleErrors.length) console.error(`console errors: ${consoleErrors.join(' | ')}`);
-  console.error(processes.stderrs());
-  cleanup().finally(() => process.exit(1));
-}
-const deadline = setTimeout(() => fail('took more than 140 s'), 140000);
+const harness = browserHarness(processes, profile, 140);
+const { consoleErrors, fail } = harness;
 const until = (what, check, ms = 15000) => untilOr(what, check, ms);
 
 // The large scene's checks (see the top): its own rigidd and rigid-view, a second page.
@@ -54,9 +41,8 @@ async function manyBodies() {
   const view = start(rigidView, [...manyBus, '--listen', '127.0.0.1:0']);
   const url = await until('the second rigid-view to print its URL',
                           () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
-  const page = await browser.newPage();
-  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  const page = await harness.browser.newPage();
+  harness.watch(page);
   await page.goto(url);
   const rv = (expr) => page.evaluate(expr);
   await until('the large scene and states', () => rv('window.rigidView.bodies.length === 300 && window.rigidView.frames > 5'), 40000);
@@ -132,16 +118,15 @@ try {
                           () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
   console.log(`rigid-view at ${url}`);
 
-  browser = await chromium.launchPersistentContext(profile, {
+  harness.browser = await chromium.launchPersistentContext(profile, {
     executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
     viewport: { width: 1000, height: 700 },
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
-  const page = browser.pages()[0] || await browser.newPage();
-  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  const page = harness.browser.pages()[0] || await harness.browser.newPage();
+  harness.watch(page);
   await page.goto(url);
 
   const rv = (expr) => page.evaluate(expr);
@@ -428,16 +413,16 @@ try {
   await page.screenshot({ path: join(outDir, 'rigid-view.png') });
   if (consoleErrors.length) throw new Error(`console errors: ${consoleErrors.join(' | ')}`);
 
-  await browser.close();
-  browser = null;
+  await harness.browser.close();
+  harness.browser = null;
   view.kill('SIGTERM');
   const viewCode = await Promise.race([view.done, sleep(5000).then(() => 'timeout')]);
   if (viewCode !== 0) throw new Error(`rigid-view exited with ${viewCode}`);
   if (!/refused: frames [1-9]/.test(view.err)) throw new Error(`rigid-view did not count the refusal: ${view.err}`);
   server.kill('SIGTERM');
   await Promise.race([server.done, sleep(5000)]);
-  clearTimeout(deadline);
-  await cleanup();
+  clearTimeout(harness.deadline);
+  await harness.cleanup();
   console.log('PASS');
 } catch (e) {
   fail(e.message);

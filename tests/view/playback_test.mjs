@@ -12,12 +12,12 @@
 // the states its ticks produced (k < tick <= k + 40), in the recording and in the journal.
 // Screenshot: OUTDIR/rigid-view-playback.png.
 // usage: node playback_test.mjs RIGIDD RIGID_RECORD RIGID_VIEW SCENE OUTDIR RIGIDCTL
-import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { chromium } from 'playwright-core';
 
-import { Processes, sleep, until as untilOr } from './processes.mjs';
+import { browserHarness, Processes, sleep, until as untilOr } from './processes.mjs';
 
 const [rigidd, rigidRecord, rigidView, sceneFile, outDir, rigidctl] = process.argv.slice(2);
 const prefix = `viewplay${process.pid}`;
@@ -25,21 +25,8 @@ const bus = ['--transport', 'dds', '--prefix', prefix];
 const work = mkdtempSync(join(tmpdir(), 'rigid-view-playback-'));
 const processes = new Processes();
 const start = (exe, args) => processes.start(exe, args);
-let browser = null;
-const consoleErrors = [];
-
-async function cleanup() {
-  if (browser) await browser.close().catch(() => {});
-  processes.stopAll();
-  rmSync(work, { recursive: true, force: true });
-}
-function fail(message) {
-  console.error(`FAIL: ${message}`);
-  if (consoleErrors.length) console.error(`console errors: ${consoleErrors.join(' | ')}`);
-  console.error(processes.stderrs());
-  cleanup().finally(() => process.exit(1));
-}
-const deadline = setTimeout(() => fail('took more than 80 s'), 80000);
+const harness = browserHarness(processes, work, 80);
+const { consoleErrors, fail } = harness;
 const exited = (child, ms) => Processes.exited(child, ms);
 const until = (what, check, ms = 10000) => untilOr(what, check, ms);
 
@@ -89,16 +76,15 @@ try {
                           () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
   console.log(`rigid-view at ${url}: ${view.out.trim()}`);
 
-  browser = await chromium.launchPersistentContext(join(work, 'profile'), {
+  harness.browser = await chromium.launchPersistentContext(join(work, 'profile'), {
     executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
     viewport: { width: 1000, height: 700 },
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   });
-  const page = browser.pages()[0] || await browser.newPage();
-  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  const page = harness.browser.pages()[0] || await harness.browser.newPage();
+  harness.watch(page);
   await page.goto(url);
   const rv = (expr) => page.evaluate(expr);
 
@@ -223,9 +209,8 @@ try {
                                  () => (journalView.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
   console.log(`rigid-view at ${journalUrl}: ${journalView.out.trim()}`);
   if (!journalView.out.includes('rigidd journal, replayed')) throw new Error(`rigid-view JOURNAL: ${journalView.out}`);
-  const jpage = await browser.newPage();
-  jpage.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
-  jpage.on('pageerror', (e) => consoleErrors.push(String(e)));
+  const jpage = await harness.browser.newPage();
+  harness.watch(jpage);
   await jpage.goto(journalUrl);
   await until('the journal\'s scene and first state',
               () => jpage.evaluate('window.rigidView.mode === "playback" && window.rigidView.bodies.length === 6 && window.rigidView.playback !== null && window.rigidView.frames >= 1'), 20000);
@@ -243,14 +228,14 @@ try {
   process.kill(journalView.pid, 'SIGTERM');
   if (await exited(journalView, 5000) !== 0) throw new Error(`rigid-view JOURNAL exited with ${journalView.exitCode}: ${journalView.err}`);
 
-  await browser.close();
-  browser = null;
+  await harness.browser.close();
+  harness.browser = null;
   process.kill(view.pid, 'SIGTERM');
   const viewCode = await exited(view, 5000);
   if (viewCode !== 0) throw new Error(`rigid-view exited with ${viewCode}`);
   if (!/refused: frames [1-9]\d*, commands [1-9]/.test(view.err)) throw new Error(`rigid-view did not count the refusals: ${view.err}`);
-  clearTimeout(deadline);
-  await cleanup();
+  clearTimeout(harness.deadline);
+  await harness.cleanup();
   console.log('PASS');
 } catch (e) {
   fail(e.message);

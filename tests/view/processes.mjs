@@ -3,6 +3,7 @@
 // and every one still running stopped by PID (SIGTERM) when the test ends or fails, so that none
 // outlives it. Also the bounded waits they all use.
 import { spawn } from 'node:child_process';
+import { rmSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -32,14 +33,19 @@ export class Processes {
     this.children = [];
   }
 
-  // child.out and child.err accumulate its output; child.done resolves to its exit code.
+  // child.out and child.err accumulate its output; child.done resolves to its exit code (-1 if it
+  // could not be started).
   start(exe, args) {
     const child = spawn(exe, args, { env: this.env, stdio: ['ignore', 'pipe', 'pipe'] });
     child.out = '';
     child.err = '';
     child.stdout.on('data', (d) => { child.out += d; });
     child.stderr.on('data', (d) => { child.err += d; });
-    child.done = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+    child.done = new Promise((resolve) => {
+      child.on('exit', (code) => resolve(code));
+      // Not started at all (no such executable): said in its stderr, exit code -1.
+      child.on('error', (e) => { child.err += `cannot start ${exe}: ${e.message}\n`; resolve(-1); });
+    });
     this.children.push(child);
     return child;
   }
@@ -64,4 +70,34 @@ export class Processes {
   stderrs() {
     return this.children.map((c) => `--- ${c.spawnargs.join(' ')} stderr:\n${c.err}`).join('\n');
   }
+}
+
+// A browser test's way out: `fail(message)` prints the message, the page's console errors and
+// every child's stderr, then closes the browser, stops the children, removes `tempDir` and exits
+// 1; `cleanup()` does the same without the report (the passing path). A watchdog fails the test
+// after `seconds`. Set `harness.browser` once the browser is launched.
+export function browserHarness(processes, tempDir, seconds) {
+  const harness = {
+    browser: null,
+    consoleErrors: [],
+    async cleanup() {
+      if (harness.browser) await harness.browser.close().catch(() => {});
+      processes.stopAll();
+      rmSync(tempDir, { recursive: true, force: true });
+    },
+    // Collects a page's console errors and uncaught exceptions (the tests require none).
+    watch(page) {
+      page.on('console', (m) => { if (m.type() === 'error') harness.consoleErrors.push(m.text()); });
+      page.on('pageerror', (e) => harness.consoleErrors.push(String(e)));
+      return page;
+    },
+    fail(message) {
+      console.error(`FAIL: ${message}`);
+      if (harness.consoleErrors.length) console.error(`console errors: ${harness.consoleErrors.join(' | ')}`);
+      console.error(processes.stderrs());
+      harness.cleanup().finally(() => process.exit(1));
+    },
+  };
+  harness.deadline = setTimeout(() => harness.fail(`took more than ${seconds} s`), seconds * 1000);
+  return harness;
 }
