@@ -15,27 +15,8 @@ void fill_state_frame(const physics::World& world, std::int64_t tick, double sim
                       rigid::StateFrame& frame) {
   frame.tick = tick;
   frame.sim_time = sim_time;
-  const int n = world.body_count();
-  double* p = frame.position.data();
-  double* q = frame.orientation.data();
-  double* v = frame.linear_velocity.data();
-  double* w = frame.angular_velocity.data();
-  for (int i = 0; i < n; ++i, p += 3, q += 4, v += 3, w += 3) {
-    const physics::BodyState s = world.state(i);
-    p[0] = s.p_WBo.x();
-    p[1] = s.p_WBo.y();
-    p[2] = s.p_WBo.z();
-    q[0] = s.q_WB.w();
-    q[1] = s.q_WB.x();
-    q[2] = s.q_WB.y();
-    q[3] = s.q_WB.z();
-    v[0] = s.v_WBo.x();
-    v[1] = s.v_WBo.y();
-    v[2] = s.v_WBo.z();
-    w[0] = s.w_WB.x();
-    w[1] = s.w_WB.y();
-    w[2] = s.w_WB.z();
-  }
+  world.write_states({frame.position.data(), frame.orientation.data(), frame.linear_velocity.data(),
+                      frame.angular_velocity.data()});
 }
 
 namespace {

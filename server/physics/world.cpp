@@ -884,6 +884,40 @@ BodyState World::state(int id) const {
   return s;
 }
 
+void World::write_states(const StateRows& rows) const {
+  const Impl& w = *impl_;
+  // The same expressions as state(id), per model, so that both give the same bits.
+  const auto put = [&](int id, const Motion& m, const Quat& q_WB, const Vec3& w_WB) {
+    const auto k = static_cast<std::size_t>(id);
+    double* p = rows.p_WBo + 3 * k;
+    double* q = rows.q_WB_wxyz + 4 * k;
+    double* v = rows.v_WBo + 3 * k;
+    double* o = rows.w_WB + 3 * k;
+    p[0] = m.x.x(), p[1] = m.x.y(), p[2] = m.x.z();
+    q[0] = q_WB.w(), q[1] = q_WB.x(), q[2] = q_WB.y(), q[3] = q_WB.z();
+    v[0] = m.v.x(), v[1] = m.v.y(), v[2] = m.v.z();
+    o[0] = w_WB.x(), o[1] = w_WB.y(), o[2] = w_WB.z();
+  };
+  const detail::PointGroup& point = w.model.point;
+  for (int k = 0; k < point.size(); ++k) {
+    const Motion& m = point.motion[k];
+    put(point.id[k], m, m.q, Vec3::Zero());
+  }
+  const IsoGroup& iso = w.model.iso;
+  for (int k = 0; k < iso.size(); ++k) {
+    const Motion& m = iso.motion[k];
+    put(iso.id[k], m, m.q * Quat::Identity().conjugate(), m.q * iso.rot[k].omega(m.spin));
+  }
+  const auto rotated = [&](const auto& g) {
+    for (int k = 0; k < g.size(); ++k) {
+      const Motion& m = g.motion[k];
+      put(g.id[k], m, m.q * g.q_BP[k].conjugate(), m.q * g.rot[k].omega(m.spin));
+    }
+  };
+  rotated(w.model.axi);
+  rotated(w.model.gen);
+}
+
 void World::set_state(int id, const BodyState& s) {
   impl_->check_id(id);
   if (!s.p_WBo.allFinite() || !s.v_WBo.allFinite() || !s.w_WB.allFinite() ||

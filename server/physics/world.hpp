@@ -54,6 +54,16 @@ struct BodyState {
   Vec3 w_WB = Vec3::Zero();
 };
 
+// Rows of every body's world-frame state, in body-id order: p_WBo (x, y, z), q_WB (w, x, y, z),
+// v_WBo and w_WB, each array holding body_count() rows. Callers own the memory (a wire message, a
+// NumPy buffer), so filling it allocates nothing.
+struct StateRows {
+  double* p_WBo;
+  double* q_WB_wxyz;
+  double* v_WBo;
+  double* w_WB;
+};
+
 // The cheapest exact model a body compiled to.
 enum class BodyModel { kPoint, kIsotropic, kAxisymmetric, kGeneral };
 std::string_view to_string(BodyModel m);
@@ -100,6 +110,9 @@ class World {
   Quat q_BP(int id) const;
 
   BodyState state(int id) const;
+  // Every body's state(id), bit for bit, written into rows: one pass over each model's entries
+  // instead of a lookup per body (the daemon's state message and Python's arrays read this).
+  void write_states(const StateRows& rows) const;
   // Overwrites a body's state (kinematic constraints such as frozen axes are re-applied; a frozen
   // body is moved but stays frozen). Throws std::invalid_argument for a non-finite state.
   void set_state(int id, const BodyState& s);

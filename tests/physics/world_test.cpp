@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <bit>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 
@@ -174,6 +176,53 @@ TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
     const Mat3 R = in.q_WB.toRotationMatrix();
     EXPECT_LT((w.angular_momentum_W(i) - R * w.body_spec(i).I_B * R.transpose() * in.w_WB).norm(),
               1e-14);
+  }
+}
+
+// write_states is state(id) for every body, bit for bit, in body-id order: bodies of every model
+// (tilted, point masses, frozen axes) with distinct states, some pushed so that their model's
+// entries regroup out of id order.
+TEST(WorldModel, WriteStatesIsStateOfEveryBodyBitForBit) {
+  const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+  WorldSpec ws = tilted_bodies(tilt);
+  for (const WorldSpec& more : {tilted_bodies(tilt.conjugate()), tilted_bodies(Quat::Identity())})
+    ws.bodies.insert(ws.bodies.end(), more.bodies.begin(), more.bodies.end());
+  BodySpec particle = body("particle", {1, 1, 1});
+  particle.has_inertia = false;
+  ws.bodies.insert(ws.bodies.begin() + 3, particle);
+  BodySpec hinge = body("hinge", {1, 2, 2.5});
+  hinge.freeze_rotation = {true, true, false};
+  ws.bodies.insert(ws.bodies.begin() + 7, hinge);
+  for (std::size_t i = 0; i < ws.bodies.size(); ++i)
+    ws.bodies[i].name = "b" + std::to_string(i);
+  World w(ws);
+  const int n = w.body_count();
+  for (int i = 0; i < n; ++i) {
+    const double a = 0.1 * (i + 1);
+    w.set_state(i, BodyState{{a, -2 * a, 3 * a},
+                             Quat(Eigen::AngleAxisd(a, Vec3(1, -a, 2).normalized())),
+                             {a, 0.5, -a},
+                             {0.3 + a, -0.2, 0.9 * a}});
+  }
+  for (int i = n - 1; i >= 0; i -= 3)
+    w.add_torque(i, {0.1, -0.2, 0.3}, Frame::kBody);
+  for (int s = 0; s < 5; ++s)
+    w.step();
+  std::vector<double> p(3 * n), q(4 * n), v(3 * n), o(3 * n);
+  w.write_states({p.data(), q.data(), v.data(), o.data()});
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  for (int i = 0; i < n; ++i) {
+    const BodyState s = w.state(i);
+    const auto k = static_cast<std::size_t>(i);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(bits(p[3 * k + j]), bits(s.p_WBo[j])) << "body " << i;
+      EXPECT_EQ(bits(v[3 * k + j]), bits(s.v_WBo[j])) << "body " << i;
+      EXPECT_EQ(bits(o[3 * k + j]), bits(s.w_WB[j])) << "body " << i;
+    }
+    EXPECT_EQ(bits(q[4 * k]), bits(s.q_WB.w())) << "body " << i;
+    EXPECT_EQ(bits(q[4 * k + 1]), bits(s.q_WB.x())) << "body " << i;
+    EXPECT_EQ(bits(q[4 * k + 2]), bits(s.q_WB.y())) << "body " << i;
+    EXPECT_EQ(bits(q[4 * k + 3]), bits(s.q_WB.z())) << "body " << i;
   }
 }
 

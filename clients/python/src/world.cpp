@@ -392,19 +392,8 @@ class PyWorld {
   // Fills the buffers from the world; called with mutex_ held.
   void refresh() {
     StateBuffers& b = *buffers_;
-    const int n = world_.body_count();
-    for (int i = 0; i < n; ++i) {
-      const physics::BodyState s = world_.state(i);
-      const auto k = static_cast<std::size_t>(i);
-      double* p = &b.positions[3 * k];
-      double* q = &b.orientations[4 * k];
-      double* v = &b.velocities[3 * k];
-      double* w = &b.angular_velocities[3 * k];
-      p[0] = s.p_WBo.x(), p[1] = s.p_WBo.y(), p[2] = s.p_WBo.z();
-      q[0] = s.q_WB.w(), q[1] = s.q_WB.x(), q[2] = s.q_WB.y(), q[3] = s.q_WB.z();
-      v[0] = s.v_WBo.x(), v[1] = s.v_WBo.y(), v[2] = s.v_WBo.z();
-      w[0] = s.w_WB.x(), w[1] = s.w_WB.y(), w[2] = s.w_WB.z();
-    }
+    world_.write_states({b.positions.data(), b.orientations.data(), b.velocities.data(),
+                         b.angular_velocities.data()});
     dirty_ = false;
   }
 
@@ -431,9 +420,9 @@ scene file uses. Orientations are unit quaternions (w, x, y, z) mapping B vector
 State arrays are read-only NumPy views of buffers the world owns and refreshes after every step()
 and reset(): a view you keep shows the current state (copy it, e.g. positions.copy(), to keep a
 snapshot). They are copies of the physics state, not views of it: the physics keeps each body
-model's state in its principal frame, so the world-frame values are computed (N x World::state(),
-about 18 ns per body: 10^3
-bodies in 18 us) when they are refreshed. A view stays valid (and keeps its last
+model's state in its principal frame, so the world-frame values are computed when they are
+refreshed (World::write_states, one pass over each model's bodies: reading all four arrays of
+10^3 bodies takes about 17 us). A view stays valid (and keeps its last
 contents) after the world is gone.
 
 Errors raise exceptions with the C++ tools' one-line messages and change nothing: SceneError
