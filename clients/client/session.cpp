@@ -3,6 +3,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "connect.hpp"
@@ -63,13 +64,19 @@ class Session::Impl final : public transport::Receiver {
   Impl& operator=(const Impl&) = delete;
 
   void on_state(const StateFrame& state) override {
+    // One copy of each state (the transport reuses its buffer), shared by latest_state_shared()
+    // and the shared handler, so that a reader that keeps states (Python's streams) does not copy
+    // it again on this thread before it is woken.
+    auto fresh = std::make_shared<const StateFrame>(state);
+    std::shared_ptr<const StateFrame> previous;  // released at the end, outside the lock
     {
       const std::lock_guard lock(mutex_);
-      state_ = state;
+      previous = std::exchange(state_, fresh);
       server_seen_ = true;
     }
     changed_.notify_all();
     const std::lock_guard calls(handler_mutex_);
+    if (shared_state_handler_) shared_state_handler_(fresh);
     if (state_handler_) state_handler_(state);
   }
 
@@ -245,7 +252,7 @@ class Session::Impl final : public transport::Receiver {
   bool server_seen_ = false;
   std::optional<SceneDescription> scene_;
   std::uint64_t scene_generation_ = 0;
-  std::optional<StateFrame> state_;
+  std::shared_ptr<const StateFrame> state_;
   std::optional<StatsReport> stats_;
   std::vector<ControlReply> replies_;          // ours only
   std::vector<AcceptedCommand> acceptances_;   // ours only
@@ -254,6 +261,7 @@ class Session::Impl final : public transport::Receiver {
   std::int64_t wrenches_refused_ = 0;
   std::mutex handler_mutex_;  // guards the handlers and is held while one runs
   std::function<void(const StateFrame&)> state_handler_;
+  std::function<void(const std::shared_ptr<const StateFrame>&)> shared_state_handler_;
   std::function<void(const AcceptedCommand&)> accepted_handler_;
   std::function<void(const StatsReport&)> stats_handler_;
   std::function<void(const SceneDescription&)> scene_handler_;
@@ -274,6 +282,11 @@ std::int64_t Session::source() const {
 
 void Session::on_each_state(std::function<void(const StateFrame&)> handler) {
   impl_->set_handler(impl_->state_handler_, std::move(handler));
+}
+
+void Session::on_each_state_shared(
+    std::function<void(const std::shared_ptr<const StateFrame>&)> handler) {
+  impl_->set_handler(impl_->shared_state_handler_, std::move(handler));
 }
 
 void Session::on_each_accepted(std::function<void(const AcceptedCommand&)> handler) {
@@ -310,6 +323,12 @@ std::optional<StatsReport> Session::wait_stats(std::chrono::milliseconds patienc
 }
 
 std::optional<StateFrame> Session::latest_state() const {
+  const std::shared_ptr<const StateFrame> s = latest_state_shared();
+  if (!s) return std::nullopt;
+  return *s;
+}
+
+std::shared_ptr<const StateFrame> Session::latest_state_shared() const {
   const std::lock_guard lock(impl_->mutex_);
   return impl_->state_;
 }

@@ -86,10 +86,9 @@ struct Subscribers {
   std::mutex mutex;
   std::vector<std::shared_ptr<StateQueue>> queues;
 
-  void deliver(const StateFrame& frame) {
+  // The session's own shared copy of the state: queued as it is, not copied again.
+  void deliver(const std::shared_ptr<const StateFrame>& shared) {
     const std::lock_guard lock(mutex);
-    if (queues.empty()) return;  // nobody streams: no copy
-    auto shared = std::make_shared<const StateFrame>(frame);
     for (const auto& q : queues) {
       {
         const std::lock_guard ql(q->mutex);
@@ -334,7 +333,7 @@ class PySession {
       raise(exceptions().transport_error, e.what());
     }
     std::weak_ptr<Subscribers> subs = subscribers_;
-    session_->on_each_state([subs](const StateFrame& f) {
+    session_->on_each_state_shared([subs](const std::shared_ptr<const StateFrame>& f) {
       if (auto s = subs.lock()) s->deliver(f);
     });
     describe_ = sdk::describe(o);
@@ -348,8 +347,8 @@ class PySession {
     if (!session_) return;
     std::shared_ptr<sdk::Session> s = std::move(session_);
     py::gil_scoped_release nogil;
-    s->on_each_state({});  // waits for a delivery in progress
-    s.reset();             // the bus stops here unless a call in another thread still holds it
+    s->on_each_state_shared({});  // waits for a delivery in progress
+    s.reset();  // the bus stops here unless a call in another thread still holds it
   }
 
   const std::string& describe() const { return describe_; }
@@ -388,13 +387,13 @@ class PySession {
 
   py::object latest() const {
     const auto session = live();
-    std::optional<StateFrame> s;
+    std::shared_ptr<const StateFrame> s;
     {
       py::gil_scoped_release nogil;
-      s = session->latest_state();
+      s = session->latest_state_shared();
     }
     if (!s) return py::none();
-    return py::cast(PyState(std::make_shared<const StateFrame>(std::move(*s))));
+    return py::cast(PyState(std::move(s)));
   }
 
   std::unique_ptr<PyStateStream> states(double timeout, std::size_t max_queue) {

@@ -43,6 +43,9 @@ class Session {
   // Setting a handler waits for a call of the old one in progress: a handler that refers to a
   // caller's locals is cleared (set to {}) before they go away, and is never called after that.
   void on_each_state(std::function<void(const StateFrame&)> handler);
+  // The same state as one immutable shared frame, for a handler that keeps states beyond the call
+  // (no copy of its own on the receive thread); called before on_each_state's handler.
+  void on_each_state_shared(std::function<void(const std::shared_ptr<const StateFrame>&)> handler);
   void on_each_accepted(std::function<void(const AcceptedCommand&)> handler);
   void on_each_stats(std::function<void(const StatsReport&)> handler);
   void on_each_scene(std::function<void(const SceneDescription&)> handler);
@@ -57,6 +60,8 @@ class Session {
   std::uint64_t scene_generation() const;
   std::optional<StatsReport> wait_stats(std::chrono::milliseconds patience);
   std::optional<StateFrame> latest_state() const;
+  // The newest state without copying it (shared and immutable; null before the first).
+  std::shared_ptr<const StateFrame> latest_state_shared() const;
 
   // Sends the request (source and seq filled in) and returns its answer, or nothing after
   // `patience` (counted from the call, discovery included).
