@@ -7,7 +7,8 @@
            state views held (each call then refreshes the views: the cost of reading every step).
   read     Reading the state of 10^3 bodies into NumPy after a step: the four arrays (positions,
            orientations, velocities, angular_velocities), refreshed from the physics on read.
-  latency  A Python controller's push to the state that shows it, per bus, against the C++
+  latency  A Python controller's push to the state that shows it, per bus and per way the states
+           reach Python (--delivery: Client.on_state's callback, Client.states' stream), against the C++
            client's, both at once on one rigidd: bench/loop_bench realtime starts rigidd (1 kHz,
            1000 racket bodies, a state every 10 ticks) and its C++ controller pushes body 0 (DDS)
            or 1 (LCM); the Python controller joins that rigidd and pushes body 2 in the same
@@ -111,11 +112,38 @@ def bench_read(rigid, tmp: Path) -> None:
 kPushPeriodS = 0.005
 
 
-def python_latency(rigid, prefix: str, transport: str, body: int, seconds: float) -> list[float]:
-    """Push `body` from Python for `seconds` on a rigidd already running under `prefix`."""
+def python_latency(rigid, prefix: str, transport: str, body: int, seconds: float,
+                   delivery: str) -> list[float]:
+    """Push `body` from Python for `seconds` on a rigidd already running under `prefix`; the
+    states reach Python through Client.states() ("stream": a thread woken per state) or
+    Client.on_state() ("callback": run on the bus's receive thread)."""
     lat: list[float] = []
     with rigid.Client(transport, prefix=prefix, timeout=10.0) as c:
         c.scene()
+        if delivery == "callback":
+            # (velocity before the push, send time) of the push in flight, set in one assignment
+            pending: list = [None]
+
+            def on_state(s) -> None:
+                t = time.perf_counter_ns()
+                p = pending[0]
+                if p is not None and s.velocities[body, 0] != p[0]:
+                    lat.append((t - p[1]) / 1e3)
+                    pending[0] = None
+
+            with c.on_state(on_state) as cb:
+                while c.latest() is None:
+                    time.sleep(0.01)
+                end = time.monotonic() + seconds
+                sign = 1.0
+                while time.monotonic() < end and cb.active:
+                    time.sleep(kPushPeriodS + random.random() * 1e-3)
+                    pending[0] = (c.latest().velocities[body, 0], time.perf_counter_ns())
+                    c.send(body, [sign * 1.0, 0, 0], ttl=0.0)
+                    sign = -sign
+                if cb.error is not None:
+                    raise cb.error
+            return lat
         with c.states(timeout=2.0) as states:
             next(states)
             end = time.monotonic() + seconds
@@ -137,8 +165,8 @@ def python_latency(rigid, prefix: str, transport: str, body: int, seconds: float
     return lat
 
 
-def latency_side_by_side(rigid, loop_bench: str, rigidd: str, transport: str, seconds: float,
-                         tmp: Path) -> tuple[list[float], dict[str, float]]:
+def latency_side_by_side(rigid, loop_bench: str, rigidd: str, transport: str, delivery: str,
+                         seconds: float, tmp: Path) -> tuple[list[float], dict[str, float]]:
     """The Python and the C++ controller on one rigidd at once (see the module's docstring)."""
     out = tmp / f"loop_{transport}.csv"
     # loop_bench's own window is longer than Python's by the seconds Python needs to join it.
@@ -150,7 +178,7 @@ def latency_side_by_side(rigid, loop_bench: str, rigidd: str, transport: str, se
                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
         time.sleep(2.0)  # rigidd up and loop_bench's controllers started
-        py = python_latency(rigid, f"bench{lb.pid}", transport, 2, seconds)
+        py = python_latency(rigid, f"bench{lb.pid}", transport, 2, seconds, delivery)
         text, _ = lb.communicate(timeout=seconds + margin + 120)
     finally:
         if lb.poll() is None:
@@ -164,7 +192,7 @@ def latency_side_by_side(rigid, loop_bench: str, rigidd: str, transport: str, se
     return py, cpp
 
 
-def bench_latency(rigid, build: Path, tmp: Path, seconds: float) -> None:
+def bench_latency(rigid, build: Path, tmp: Path, seconds: float, deliveries: list[str]) -> None:
     rigidd = str(build / "server" / "rigidd" / "rigidd")
     loop_bench = str(build / "bench" / "loop_bench")
     if not os.access(loop_bench, os.X_OK):
@@ -172,12 +200,15 @@ def bench_latency(rigid, build: Path, tmp: Path, seconds: float) -> None:
         return
     print(f"latency, push to the state that shows it, 1000 bodies at 1 kHz, Python and C++ "
           f"controllers on one rigidd at once, {seconds:g} s per bus (us):")
-    for transport in ("dds", "lcm"):
-        lat, cpp = latency_side_by_side(rigid, loop_bench, rigidd, transport, seconds, tmp)
+    for transport, delivery in ((t, d) for t in ("dds", "lcm") for d in deliveries):
+        lat, cpp = latency_side_by_side(rigid, loop_bench, rigidd, transport, delivery, seconds,
+                                        tmp)
         py = np.array(lat)
-        print(f"  {transport}: Python p50 {np.median(py):7.0f} p99 {np.percentile(py, 99):7.0f} "
-              f"max {py.max():7.0f} (n {len(py)});  C++ p50 {cpp['latency_p50_us']:7.0f} "
-              f"p99 {cpp['latency_p99_us']:7.0f} max {cpp['latency_max_us']:7.0f}  "
+        print(f"  {transport} {delivery:8}: Python p50 {np.median(py):7.0f} "
+              f"p99 {np.percentile(py, 99):7.0f} max {py.max():7.0f} (n {len(py)});  "
+              f"C++ p50 {cpp['latency_p50_us']:7.0f} p99 {cpp['latency_p99_us']:7.0f} "
+              f"max {cpp['latency_max_us']:7.0f}  "
+              f"p50 {np.median(py) - cpp['latency_p50_us']:+.0f}, "
               f"p99 {np.percentile(py, 99) - cpp['latency_p99_us']:+.0f} vs C++")
 
 
@@ -187,6 +218,9 @@ def main() -> int:
     ap.add_argument("--parts", default="step,read,latency")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--latency-seconds", type=float, default=20.0)
+    ap.add_argument("--delivery", default="callback,stream",
+                    help="how the Python controller gets its states: Client.on_state() "
+                         "(callback), Client.states() (stream), or both in turn")
     args = ap.parse_args()
     sys.path.insert(0, str(args.build / "clients" / "python"))
     import rigid  # the build tree's
@@ -199,7 +233,11 @@ def main() -> int:
         if "read" in parts:
             bench_read(rigid, tmp)
         if "latency" in parts:
-            bench_latency(rigid, args.build, tmp, args.latency_seconds)
+            deliveries = args.delivery.split(",")
+            for d in deliveries:
+                if d not in ("callback", "stream"):
+                    ap.error(f"--delivery: unknown '{d}' (callback, stream)")
+            bench_latency(rigid, args.build, tmp, args.latency_seconds, deliveries)
     return 0
 
 

@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import math
 import os
+import subprocess
+import sys
+import threading
 import time
 from typing import Callable
 
@@ -114,6 +117,121 @@ def test_a_push_changes_velocity_by_f_dt_over_m_per_tick(rigidd: StartDaemon, bu
     assert sum(1 for t, _ in v if t >= onset + 100) > 50  # well after expiry: 100 ticks' worth
     # The brick was not touched.
     assert np.all(states[-1].velocities[0] == 0) and np.all(states[-1].angular_velocities[0] == 0)
+    assert d.stop() == 0, d.stderr()
+
+
+def test_on_state_calls_fn_with_each_state_on_the_receive_thread(rigidd: StartDaemon,
+                                                                  bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    got: list[tuple[int, int]] = []
+    with client_for(d) as c:
+        with c.on_state(lambda s: got.append((s.tick, threading.get_ident()))) as cb:
+            assert wait_for(lambda: len(got) >= 100)
+            assert cb.active and cb.error is None
+        n = len(got)  # close() has returned: fn is not running and will not run again
+        time.sleep(0.1)
+        assert len(got) == n and not cb.active
+        assert cb.calls == n
+    ticks = [t for t, _ in got]
+    assert all(b > a for a, b in zip(ticks, ticks[1:])), ticks
+    threads = {t for _, t in got}
+    assert len(threads) == 1 and threading.get_ident() not in threads
+    assert d.stop() == 0, d.stderr()
+
+
+def test_inside_on_state_send_works_and_waiting_calls_are_refused(rigidd: StartDaemon,
+                                                                  bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    errors: dict[str, str] = {}
+    sent: list[int] = []
+
+    def fn(s: rigid.State) -> None:
+        if sent:
+            return
+        for name, call in (("push", lambda: c.push(PUCK, [1, 0, 0])),
+                           ("pause", c.pause),
+                           ("close", c.close)):
+            try:
+                call()
+            except RuntimeError as e:
+                errors[name] = str(e)
+        assert c.scene().bodies[PUCK].name == "puck" and c.body("puck") == PUCK
+        assert c.latest() is not None
+        sent.append(s.tick)
+        c.send(PUCK, [4, 0, 0], ttl=0.0)  # one tick: the puck's velocity becomes DV_PER_TICK
+
+    with client_for(d) as c, c.states(timeout=10.0) as stream:
+        with c.on_state(fn) as cb:
+            assert wait_for(lambda: bool(sent))
+            v = 0.0
+            deadline = time.monotonic() + 10.0
+            while v == 0.0 and time.monotonic() < deadline:
+                v = float(next(stream).velocities[PUCK, 0])
+            assert v == pytest.approx(DV_PER_TICK, abs=1e-12)
+            assert cb.error is None, cb.error
+        assert c.take_refusal() is None
+    assert set(errors) == {"push", "pause", "close"}, errors
+    assert errors["push"].startswith("Client.push() inside an on_state callback would wait")
+    assert errors["pause"].startswith("Client.pause() inside an on_state callback")
+    assert errors["close"].startswith("Client.close() inside an on_state callback")
+    assert d.stop() == 0, d.stderr()
+
+
+def test_an_exception_in_on_state_ends_that_callback_only(rigidd: StartDaemon, bus: str,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    d = rigidd(PROBE, bus)
+    reported: list[BaseException] = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda u: reported.append(u.exc_value))
+    calls = [0]
+
+    def bad(s: rigid.State) -> None:
+        calls[0] += 1
+        raise ValueError(f"bad state {s.tick}")
+
+    with client_for(d) as c:
+        good = c.on_state(lambda s: None)
+        failing = c.on_state(bad)
+        assert wait_for(lambda: not failing.active)
+        n = good.calls
+        assert wait_for(lambda: good.calls > n + 10), "the other callback stopped too"
+        assert good.active
+        assert isinstance(failing.error, ValueError) and calls[0] == 1
+        assert failing.calls == 0
+        assert reported == [failing.error]
+        c.close()
+        assert not good.active  # closing the client ends its callbacks
+        n = good.calls
+        time.sleep(0.05)
+        assert good.calls == n
+        with pytest.raises(RuntimeError, match="the client is closed"):
+            c.on_state(lambda s: None)
+    with pytest.raises(TypeError, match="on_state needs a callable, got int"):
+        rigid.Client(bus, prefix="pynobody").on_state(3)  # type: ignore[arg-type]
+    assert d.stop() == 0, d.stderr()
+
+
+def test_exiting_with_a_callback_running_ends_cleanly(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    # A script that leaves its client and a busy callback open at exit: the atexit hook closes
+    # them before the interpreter finalizes, so the receive thread never runs Python after it.
+    script = (
+        "import rigid, sys, time\n"
+        f"c = rigid.Client({bus!r}, prefix={d.prefix!r}, timeout=10.0)\n"
+        "c.scene()\n"
+        "n = [0]\n"
+        "def fn(s):\n"
+        "    n[0] += 1\n"
+        "    sum(range(20000))\n"
+        "c.on_state(fn)\n"
+        "while n[0] < 50: time.sleep(0.01)\n"
+        "print('calls', n[0])\n"
+    )
+    for _ in range(3):
+        r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                           timeout=60)
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.startswith("calls "), r.stdout
+        assert r.stderr == "", r.stderr
     assert d.stop() == 0, d.stderr()
 
 

@@ -15,14 +15,17 @@ non-finite or malformed numbers.
 
 from __future__ import annotations
 
+import atexit
 import math
+import weakref
 from dataclasses import dataclass
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 from ._rigid import (
     SceneError,
     SpecError,
     State,
+    StateCallback,
     StateStream,
     TransportError,
     UnknownBodyError,
@@ -35,6 +38,7 @@ __all__ = [
     "Client",
     "State",
     "StateStream",
+    "StateCallback",
     "Integrator",
     "SceneInfo",
     "BodyInfo",
@@ -151,6 +155,17 @@ def _scene_info(d: dict[str, Any]) -> SceneInfo:
     return SceneInfo(bodies=bodies, **d)
 
 
+# Clients still open at exit are closed before the interpreter finalizes, so that no receive
+# thread tries to run an on_state callback in an interpreter that is going away.
+_open_clients: "weakref.WeakSet[Client]" = weakref.WeakSet()
+
+
+@atexit.register
+def _close_open_clients() -> None:
+    for c in list(_open_clients):
+        c.close()
+
+
 class Client:
     """A client of a running rigidd on one bus (the C++ rigid::client::Session).
 
@@ -177,6 +192,7 @@ class Client:
         self._session = _Session(transport, prefix, domain, url, security)
         self.transport = transport
         self.timeout = timeout
+        _open_clients.add(self)
 
     # -- lifetime --------------------------------------------------------------------------
 
@@ -245,6 +261,23 @@ class Client:
     def latest(self) -> Optional[State]:
         """The newest state received so far, or None."""
         return self._session.latest()
+
+    def on_state(self, fn: Callable[[State], None]) -> StateCallback:
+        """Call ``fn(state)`` for every state from now on, as it arrives: on the bus's receive
+        thread, holding the GIL, so that no thread has to be woken for it (the lowest latency
+        from rigidd's publish to your code; ``states()`` hands each state to a waiting thread).
+
+        Keep ``fn`` short: while it runs, this client receives nothing, and while another
+        thread of yours runs Python code the call waits for the GIL. Inside ``fn``, ``send()``,
+        ``latest()``, ``scene()`` and ``body()`` work; calls that would wait for the bus
+        (``push()``, controls, a stream's ``next()``) raise RuntimeError instead, since the
+        answer would have to come through this very thread. An exception from ``fn`` ends the
+        callback: it is reported through ``sys.unraisablehook`` and kept in ``.error``.
+        Returns a handle: ``close()`` it (or use ``with``) to stop; closing the client stops it.
+        """
+        if not callable(fn):
+            raise TypeError(f"on_state needs a callable, got {type(fn).__name__}")
+        return self._session.on_state(fn)
 
     # -- pushes -----------------------------------------------------------------------------
 

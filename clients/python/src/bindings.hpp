@@ -6,6 +6,7 @@
 namespace rigid::python {
 
 void bind_world(pybind11::module_& m);
+void bind_states(pybind11::module_& m);
 void bind_client(pybind11::module_& m);
 
 }  // namespace rigid::python

@@ -2,14 +2,11 @@
 // rigid.Client). Answers come back as plain values (dicts, State); turning a refusal into an
 // exception is the Python layer's, so that its messages live in one readable place.
 //
-// Threads: the session's receive thread never touches Python. It copies each state into a
-// shared, immutable frame and queues it for every open state stream; Python threads take them
-// with the GIL released while they wait.
+// Threads: every call that waits for the bus releases the GIL while it waits. The states go
+// to Python through states.hpp (streams, and callbacks run on the receive thread); a call made
+// inside such a callback must not wait for the bus, which that thread would have to receive.
 #include <chrono>
-#include <condition_variable>
-#include <deque>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,164 +16,10 @@
 #include "common.hpp"
 #include "rigid/client/names.hpp"
 #include "session_api.hpp"
+#include "states.hpp"
 
 namespace rigid::python {
 namespace {
-
-using std::chrono::milliseconds;
-
-milliseconds to_ms(double seconds) {
-  if (!(seconds >= 0.0)) {
-    raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
-          "timeout must be >= 0 seconds, got " + num(seconds));
-  }
-  return milliseconds(static_cast<std::int64_t>(std::min(seconds, 1e9) * 1000.0 + 0.5));
-}
-
-py::array int_view(const std::int32_t* data, py::ssize_t n, const py::object& owner) {
-  py::array a(py::dtype::of<std::int32_t>(), {n}, {static_cast<py::ssize_t>(sizeof(std::int32_t))},
-              data, owner);
-  a.attr("flags").attr("writeable") = false;
-  return a;
-}
-
-// One received state, immutable; its arrays are read-only views of the frame it holds.
-class PyState {
- public:
-  explicit PyState(std::shared_ptr<const StateFrame> frame) : frame_(std::move(frame)) {
-    auto* keep = new std::shared_ptr<const StateFrame>(frame_);
-    owner_ = py::capsule(
-        keep, [](void* p) { delete static_cast<std::shared_ptr<const StateFrame>*>(p); });
-  }
-  const StateFrame& frame() const { return *frame_; }
-  py::ssize_t n() const { return static_cast<py::ssize_t>(frame_->body_count()); }
-  py::array ids() const { return int_view(frame_->ids.data(), n(), owner_); }
-  py::array positions() const { return readonly_view(frame_->position.data(), n(), 3, owner_); }
-  py::array orientations() const {
-    return readonly_view(frame_->orientation.data(), n(), 4, owner_);
-  }
-  py::array velocities() const {
-    return readonly_view(frame_->linear_velocity.data(), n(), 3, owner_);
-  }
-  py::array angular_velocities() const {
-    return readonly_view(frame_->angular_velocity.data(), n(), 3, owner_);
-  }
-  std::string repr() const {
-    return "<rigid.State tick " + std::to_string(frame_->tick) + ", t=" + num(frame_->sim_time) +
-           ", " + std::to_string(frame_->body_count()) + " bodies>";
-  }
-
- private:
-  std::shared_ptr<const StateFrame> frame_;
-  py::capsule owner_;
-};
-
-// States for one stream, newest last; bounded: a slow reader loses the oldest (counted).
-struct StateQueue {
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::deque<std::shared_ptr<const StateFrame>> frames;
-  std::size_t capacity = 1024;
-  std::int64_t dropped = 0;
-  bool closed = false;
-};
-
-// What the receive thread's handler reaches: the open streams.
-struct Subscribers {
-  std::mutex mutex;
-  std::vector<std::shared_ptr<StateQueue>> queues;
-
-  // The session's own shared copy of the state: queued as it is, not copied again.
-  void deliver(const std::shared_ptr<const StateFrame>& shared) {
-    const std::lock_guard lock(mutex);
-    for (const auto& q : queues) {
-      {
-        const std::lock_guard ql(q->mutex);
-        if (q->frames.size() >= q->capacity) {
-          q->frames.pop_front();
-          ++q->dropped;
-        }
-        q->frames.push_back(shared);
-      }
-      q->changed.notify_all();
-    }
-  }
-  void remove(const std::shared_ptr<StateQueue>& q) {
-    const std::lock_guard lock(mutex);
-    std::erase(queues, q);
-  }
-};
-
-class PyStateStream {
- public:
-  PyStateStream(std::shared_ptr<Subscribers> subscribers, std::size_t capacity, double timeout,
-                std::string bus)
-      : subscribers_(std::move(subscribers)), timeout_(timeout), bus_(std::move(bus)) {
-    queue_ = std::make_shared<StateQueue>();
-    queue_->capacity = std::max<std::size_t>(capacity, 1);
-    const std::lock_guard lock(subscribers_->mutex);
-    subscribers_->queues.push_back(queue_);
-  }
-  ~PyStateStream() { close(); }
-  PyStateStream(const PyStateStream&) = delete;
-  PyStateStream& operator=(const PyStateStream&) = delete;
-
-  // The next state; TimeoutError after `timeout` seconds without one. Waits in slices so that
-  // Ctrl-C is seen within 0.1 s.
-  PyState next() {
-    const auto deadline = std::chrono::steady_clock::now() + to_ms(timeout_);
-    for (;;) {
-      std::shared_ptr<const StateFrame> frame;
-      bool closed = false;
-      {
-        py::gil_scoped_release nogil;
-        std::unique_lock lock(queue_->mutex);
-        queue_->changed.wait_until(
-            lock, std::min(deadline, std::chrono::steady_clock::now() + milliseconds(100)),
-            [&] { return !queue_->frames.empty() || queue_->closed; });
-        closed = queue_->closed;
-        if (!queue_->frames.empty()) {
-          frame = std::move(queue_->frames.front());
-          queue_->frames.pop_front();
-        }
-      }
-      if (frame) return PyState(std::move(frame));
-      if (closed) throw py::stop_iteration();
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (std::chrono::steady_clock::now() >= deadline) {
-        raise(py::reinterpret_borrow<py::object>(PyExc_TimeoutError),
-              "no state from rigidd within " + num(timeout_) + " s on " + bus_ +
-                  " (is rigidd running, with the same transport, prefix and domain?)");
-      }
-    }
-  }
-
-  void close() {
-    if (!queue_) return;
-    subscribers_->remove(queue_);
-    {
-      const std::lock_guard lock(queue_->mutex);
-      queue_->closed = true;
-      queue_->frames.clear();
-    }
-    queue_->changed.notify_all();
-  }
-
-  std::int64_t dropped() const {
-    const std::lock_guard lock(queue_->mutex);
-    return queue_->dropped;
-  }
-  std::size_t pending() const {
-    const std::lock_guard lock(queue_->mutex);
-    return queue_->frames.size();
-  }
-
- private:
-  std::shared_ptr<Subscribers> subscribers_;
-  std::shared_ptr<StateQueue> queue_;
-  double timeout_;
-  std::string bus_;
-};
 
 const char* mode_name(rigid::Mode m) {
   switch (m) {
@@ -325,30 +168,49 @@ class PySession {
     o.dds_domain = domain;
     o.lcm_url = url.value_or("");
     o.security = security.value_or("");
-    subscribers_ = std::make_shared<Subscribers>();
+    delivery_ = std::make_shared<StateDelivery>();
     try {
       py::gil_scoped_release nogil;  // joining a DDS domain takes a moment
       session_ = std::make_shared<sdk::Session>(o);
     } catch (const sdk::BusError& e) {
       raise(exceptions().transport_error, e.what());
     }
-    std::weak_ptr<Subscribers> subs = subscribers_;
-    session_->on_each_state_shared([subs](const std::shared_ptr<const StateFrame>& f) {
-      if (auto s = subs.lock()) s->deliver(f);
+    std::weak_ptr<StateDelivery> delivery = delivery_;
+    session_->on_each_state_shared([delivery](const std::shared_ptr<const StateFrame>& f) {
+      if (auto d = delivery.lock()) d->deliver(f);
     });
     describe_ = sdk::describe(o);
   }
 
-  ~PySession() { close(); }
+  ~PySession() {
+    // Dropped inside one of its own callbacks, the session cannot stop the thread that runs it.
+    if (!delivery_->in_callback()) close();
+  }
   PySession(const PySession&) = delete;
   PySession& operator=(const PySession&) = delete;
 
   void close() {
     if (!session_) return;
+    if (delivery_->in_callback()) {
+      raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError),
+            "Client.close() inside an on_state callback would stop the thread running it: "
+            "close the callback instead (or close the client outside it)");
+    }
     std::shared_ptr<sdk::Session> s = std::move(session_);
-    py::gil_scoped_release nogil;
-    s->on_each_state_shared({});  // waits for a delivery in progress
-    s.reset();  // the bus stops here unless a call in another thread still holds it
+    {
+      py::gil_scoped_release nogil;
+      s->on_each_state_shared({});  // waits for a delivery in progress
+      s.reset();  // the bus stops here unless a call in another thread still holds it
+    }
+    delivery_->end_callbacks();
+  }
+
+  // Client.on_state(fn): fn(state) on the receive thread for every state from now on.
+  PyStateCallback on_state(const py::function& fn) {
+    (void)live();
+    auto c = std::make_shared<StateCallback>(fn);
+    delivery_->add_callback(c);
+    return PyStateCallback(delivery_, std::move(c));
   }
 
   const std::string& describe() const { return describe_; }
@@ -356,12 +218,13 @@ class PySession {
 
   py::object scene(double timeout) {
     const auto session = live();
-    const auto patience = to_ms(timeout);
+    const auto patience = wait_for(timeout);
     std::optional<SceneDescription> s;
     {
       py::gil_scoped_release nogil;
       s = session->wait_scene(patience);
     }
+    if (!s) nothing_yet_in_callback("Client.scene()", "SceneInfo");
     return s ? py::object(scene_dict(*s)) : py::none();
   }
 
@@ -369,18 +232,19 @@ class PySession {
 
   py::object stats(double timeout) {
     const auto session = live();
-    const auto patience = to_ms(timeout);
+    const auto patience = wait_for(timeout);
     std::optional<StatsReport> s;
     {
       py::gil_scoped_release nogil;
       s = session->wait_stats(patience);
     }
+    if (!s) nothing_yet_in_callback("Client.stats()", "Stats");
     return s ? py::object(stats_dict(*s)) : py::none();
   }
 
   bool wait_server(double timeout) {
     const auto session = live();
-    const auto ms = to_ms(timeout);
+    const auto ms = wait_for(timeout);
     py::gil_scoped_release nogil;
     return session->wait_server(ms);
   }
@@ -397,12 +261,14 @@ class PySession {
   }
 
   std::unique_ptr<PyStateStream> states(double timeout, std::size_t max_queue) {
+    // (a stream may be opened inside a callback; only waiting for its next state is refused)
     (void)to_ms(timeout);  // checked now, not at the first next()
-    return std::make_unique<PyStateStream>(subscribers_, max_queue, timeout, describe_);
+    return std::make_unique<PyStateStream>(delivery_, max_queue, timeout, describe_);
   }
 
   // "pause", "resume", "step", "reset", "rate": rigidd's answer as a dict, None on no answer.
   py::object request(const std::string& kind, std::int64_t steps, double rtf, double timeout) {
+    no_answer_in_callback("Client." + (kind == "rate" ? std::string("set_rate") : kind) + "()");
     const auto patience = to_ms(timeout);
     if (kind != "pause" && kind != "resume" && kind != "step" && kind != "reset" &&
         kind != "rate") {
@@ -441,12 +307,13 @@ class PySession {
                 std::string(py::str(py::type::of(body).attr("__name__"))));
     }
     const auto session = live();
-    const auto patience = to_ms(timeout);
+    const auto patience = wait_for(timeout);
     std::optional<SceneDescription> scene;
     {
       py::gil_scoped_release nogil;
       scene = session->wait_scene(patience);
     }
+    if (!scene) nothing_yet_in_callback("resolving a body", "SceneInfo");
     if (!scene) {
       raise(py::reinterpret_borrow<py::object>(PyExc_TimeoutError),
             "no SceneInfo from rigidd within " + num(timeout) + " s on " + describe_ +
@@ -479,6 +346,7 @@ class PySession {
 
   // (accepted dict, None) | (None, rigidd's reason) | (None, None) on no answer.
   py::tuple push(const WrenchCommand& w, double timeout) {
+    no_answer_in_callback("Client.push()");
     const auto patience = to_ms(timeout);
     const auto session = live();
     std::optional<AcceptedCommand> accepted;
@@ -506,6 +374,27 @@ class PySession {
   std::int64_t wrenches_refused() const { return live()->wrenches_refused(); }
 
  private:
+  // How long a call may wait for the bus: inside an on_state callback not at all (the answer
+  // would have to come through the very thread that runs the callback), so it takes what the
+  // session already has.
+  std::chrono::milliseconds wait_for(double timeout) const {
+    const auto ms = to_ms(timeout);
+    return delivery_->in_callback() ? std::chrono::milliseconds(0) : ms;
+  }
+  void nothing_yet_in_callback(const std::string& call, const std::string& what) const {
+    if (!delivery_->in_callback()) return;
+    raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError),
+          call + " inside an on_state callback: no " + what +
+              " has arrived yet, and waiting here would block the thread that receives it");
+  }
+  void no_answer_in_callback(const std::string& call) const {
+    if (!delivery_->in_callback()) return;
+    raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError),
+          call +
+              " inside an on_state callback would wait for rigidd's answer, which this "
+              "thread has to receive: use send() there (refusals: take_refusal())");
+  }
+
   // A reference for the call: close() from another thread cannot free the session under it.
   std::shared_ptr<sdk::Session> live() const {
     if (!session_) {
@@ -514,7 +403,7 @@ class PySession {
     return session_;
   }
 
-  std::shared_ptr<Subscribers> subscribers_;
+  std::shared_ptr<StateDelivery> delivery_;
   std::shared_ptr<sdk::Session> session_;
   std::string describe_;
 };
@@ -522,37 +411,6 @@ class PySession {
 }  // namespace
 
 void bind_client(py::module_& m) {
-  py::class_<PyState>(m, "State", R"doc(One state rigidd published (immutable).
-
-tick, time (simulated s), stamp_ns (rigidd's wall clock at publish, CLOCK_REALTIME ns), and per
-body, in the order of ids: positions (N, 3), orientations (N, 4, w first), velocities (N, 3) and
-angular_velocities (N, 3), all in the world frame; read-only NumPy views of the received message
-(no copy beyond the one taken off the bus).)doc")
-      .def_property_readonly("tick", [](const PyState& s) { return s.frame().tick; })
-      .def_property_readonly("time", [](const PyState& s) { return s.frame().sim_time; })
-      .def_property_readonly("stamp_ns", [](const PyState& s) { return s.frame().stamp_ns; })
-      .def_property_readonly("ids", &PyState::ids, "(N,) int32 body ids, one per row.")
-      .def_property_readonly("positions", &PyState::positions, "(N, 3) p_WBo (m).")
-      .def_property_readonly("orientations", &PyState::orientations, "(N, 4) q_WB as (w, x, y, z).")
-      .def_property_readonly("velocities", &PyState::velocities, "(N, 3) v_WBo in W (m/s).")
-      .def_property_readonly("angular_velocities", &PyState::angular_velocities,
-                             "(N, 3) w_WB in W (rad/s).")
-      .def("__len__", [](const PyState& s) { return s.n(); })
-      .def("__repr__", &PyState::repr);
-
-  py::class_<PyStateStream>(m, "StateStream", R"doc(An iterator over the states rigidd publishes
-from now on, in the order they arrive (Client.states()). next() waits up to `timeout` seconds with
-the GIL released and raises TimeoutError after that; close() (or leaving a `with` block) ends it.
-A reader slower than the bus loses the oldest queued states (counted in `dropped`).)doc")
-      .def("__iter__", [](py::object self) { return self; })
-      .def("__next__", &PyStateStream::next)
-      .def("close", &PyStateStream::close)
-      .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](PyStateStream& s, const py::args&) { s.close(); })
-      .def_property_readonly("dropped", &PyStateStream::dropped,
-                             "States lost because this stream's queue was full.")
-      .def_property_readonly("pending", &PyStateStream::pending, "States queued, not yet read.");
-
   py::class_<WrenchCommand>(m, "_Wrench");
 
   py::class_<PySession>(m, "_Session", "The C++ rigid::client::Session (use rigid.Client).")
@@ -569,6 +427,7 @@ A reader slower than the bus loses the oldest queued states (counted in `dropped
       .def("wait_server", &PySession::wait_server, py::arg("timeout"))
       .def("latest", &PySession::latest)
       .def("states", &PySession::states, py::arg("timeout"), py::arg("max_queue"))
+      .def("on_state", &PySession::on_state, py::arg("fn"))
       .def("request", &PySession::request, py::arg("kind"), py::arg("steps"), py::arg("rtf"),
            py::arg("timeout"))
       .def("resolve", &PySession::resolve, py::arg("body"), py::arg("timeout"))

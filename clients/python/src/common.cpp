@@ -1,6 +1,8 @@
 #include "common.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 namespace rigid::python {
@@ -24,6 +26,15 @@ std::string num(double v) {
 
 std::string vec_text(const std::array<double, 3>& v) {
   return "(" + num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]) + ")";
+}
+
+std::chrono::milliseconds to_ms(double seconds) {
+  if (!(seconds >= 0.0)) {
+    raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
+          "timeout must be >= 0 seconds, got " + num(seconds));
+  }
+  return std::chrono::milliseconds(
+      static_cast<std::int64_t>(std::min(seconds, 1e9) * 1000.0 + 0.5));
 }
 
 std::array<double, 3> to_array3(const py::handle& value, std::string_view what) {

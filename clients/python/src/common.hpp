@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <chrono>
 #include <string>
 #include <string_view>
 
@@ -39,6 +40,9 @@ std::string vec_text(const std::array<double, 3>& v);
 std::array<double, 3> to_array3(const py::handle& value, std::string_view what);
 physics::Vec3 to_vec3(const py::handle& value, std::string_view what);
 bool finite(const std::array<double, 3>& v);
+
+// A timeout in seconds as milliseconds (capped at 10^9 s); a negative or NaN one is a ValueError.
+std::chrono::milliseconds to_ms(double seconds);
 
 // "world" or "body"; anything else is a ValueError naming the value.
 physics::Frame to_frame(const py::handle& value, std::string_view what);

@@ -74,5 +74,6 @@ PYBIND11_MODULE(_rigid, m) {
       "Every integrator as a dict, in rigid-sim --list-integrators order.");
 
   python::bind_world(m);
+  python::bind_states(m);
   python::bind_client(m);
 }
