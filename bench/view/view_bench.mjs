@@ -152,13 +152,15 @@ async function run(n, webDir) {
   // Where the latency goes (pages that split it): publish -> worker -> main thread -> frame.
   const parts = await rv('window.rigidView.latencyParts ? window.rigidView.latencyParts() : null');
   const instances = await rv('window.rigidView.instances()');
+  // The page's render scale at the end of the window (its dynamic resolution; 1: full).
+  const scale = await rv('window.rigidView.renderScale ? window.rigidView.renderScale() : 1');
   await page.close();
   await stop(view);
   await stop(server);
   if (errors.length) throw new Error(`page errors: ${errors.join(' | ')}`);
   const seconds = (r1[2] - r0[2]) / 1000;
   return { bodies: n, page: webDir || '(default)', path: instances.path || 'instanced',
-           meshes: instances.meshes, fps: (r1[0] - r0[0]) / seconds,
+           meshes: instances.meshes, scale, fps: (r1[0] - r0[0]) / seconds,
            states_per_s: (r1[1] - r0[1]) / seconds, latency_p50_ms: quantile(latencies, 0.5),
            latency_p99_ms: quantile(latencies, 0.99), latency_samples: latencies.length, seconds,
            render_ms: (r1[3] - r0[3]) / Math.max(r1[0] - r0[0], 1),
@@ -268,7 +270,8 @@ try {
       for (const webDir of opt.webDirs) {
         const r = await run(n, webDir);
         results.push(r);
-        console.log(`${n} bodies, page ${r.page} (${r.meshes} ${r.path} meshes): ${r.fps.toFixed(1)} frames/s, ` +
+        console.log(`${n} bodies, page ${r.page} (${r.meshes} ${r.path} meshes, render scale ` +
+                    `${r.scale.toFixed(2)} at the end): ${r.fps.toFixed(1)} frames/s, ` +
                     `${r.states_per_s.toFixed(1)} states/s drawn, latency publish -> frame ` +
                     `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
                     `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s; p50 to the worker ` +
@@ -291,10 +294,10 @@ try {
     }
   }
   if (opt.csv) {
-    const header = 'bodies,page,path,meshes,fps,states_per_s,latency_p50_ms,latency_p99_ms,latency_samples,seconds,render_ms,state_ms,to_worker_p50_ms,to_main_p50_ms,to_frame_p50_ms\n';
+    const header = 'bodies,page,path,meshes,scale,fps,states_per_s,latency_p50_ms,latency_p99_ms,latency_samples,seconds,render_ms,state_ms,to_worker_p50_ms,to_main_p50_ms,to_frame_p50_ms\n';
     if (!existsSync(opt.csv)) writeFileSync(opt.csv, header);
     for (const r of results)
-      appendFileSync(opt.csv, `${r.bodies},${r.page},${r.path},${r.meshes},${r.fps},${r.states_per_s},${r.latency_p50_ms},${r.latency_p99_ms},${r.latency_samples},${r.seconds},${r.render_ms},${r.state_ms},${r.to_worker_p50_ms},${r.to_main_p50_ms},${r.to_frame_p50_ms}\n`);
+      appendFileSync(opt.csv, `${r.bodies},${r.page},${r.path},${r.meshes},${r.scale},${r.fps},${r.states_per_s},${r.latency_p50_ms},${r.latency_p99_ms},${r.latency_samples},${r.seconds},${r.render_ms},${r.state_ms},${r.to_worker_p50_ms},${r.to_main_p50_ms},${r.to_frame_p50_ms}\n`);
   }
   clearTimeout(watchdog);
   await cleanup();
