@@ -149,6 +149,7 @@ struct World::Impl {
     return Quat::Identity();
   }
   void set_threads(int n);
+  void step(bool another_follows);
   void plan_shares(int used);
   void run_share(detail::Share& sh);
   // Called after anything that may change whether a body's loads leave it quiet.
@@ -767,7 +768,17 @@ World& World::operator=(const World& o) {
 }
 
 void World::step() {
-  Impl& w = *impl_;
+  impl_->step(false);
+}
+
+void World::step(std::int64_t n) {
+  for (std::int64_t i = 0; i < n; ++i)
+    impl_->step(i + 1 < n);
+}
+
+// One step; `another_follows`: the pool's workers wait for the next one polling (pool.hpp).
+void World::Impl::step(bool another_follows) {
+  Impl& w = *this;
   if (!w.pending.empty()) w.apply_pending_impulses();
   if (!w.regroup_ids.empty()) w.regroup();
   const int bodies = static_cast<int>(w.slot.size());
@@ -784,17 +795,12 @@ void World::step() {
           Impl& impl = *static_cast<Impl*>(ctx);
           impl.run_share(impl.shares[k]);
         },
-        &w);
+        &w, another_follows);
   }
   for (int k = 0; k < used; ++k)
     w.model.large_rotations += w.shares[k].large_rotations;
   ++w.steps;
   if (w.steps % kGuardEvery == 0) w.guard();
-}
-
-void World::step(std::int64_t n) {
-  for (std::int64_t i = 0; i < n; ++i)
-    step();
 }
 
 void World::set_threads(int n) {
