@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "loop/clock.hpp"
 #include "loop/loop.hpp"
 #include "scene/scene.hpp"
 
@@ -21,13 +22,18 @@ class Recorder : public LoopOutput {
  public:
   Recorder() {
     ticks.reserve(1 << 20);
+    tick_ns.reserve(1 << 20);
     replies.reserve(1 << 12);
   }
   void offer_state(const rigid::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
+    const std::int64_t now = monotonic_ns();
     {
       const std::lock_guard lock(mutex);
       last = frame;  // same shape every time: reuses the vectors
-      if (ticks.size() < ticks.capacity()) ticks.push_back(frame.tick);
+      if (ticks.size() < ticks.capacity()) {
+        ticks.push_back(frame.tick);
+        tick_ns.push_back(now);
+      }
       ++states;
     }
     changed.notify_all();
@@ -44,6 +50,9 @@ class Recorder : public LoopOutput {
   std::condition_variable changed;
   rigid::StateFrame last;
   std::vector<std::int64_t> ticks;
+  // When the loop thread handed each of those states over (CLOCK_MONOTONIC ns): the loop's own
+  // pace, which a stall of the test's thread does not change.
+  std::vector<std::int64_t> tick_ns;
   std::vector<Reply> replies;
   std::int64_t states = 0;
 };
