@@ -132,6 +132,20 @@ def test_on_state_calls_fn_with_each_state_on_the_receive_thread(rigidd: StartDa
         time.sleep(0.1)
         assert len(got) == n and not cb.active
         assert cb.calls == n
+        # A callback may add another one: it joins after the state being delivered.
+        inner: list[int] = []
+        added: dict[str, rigid.StateCallback] = {}
+        added_at: list[int] = []
+
+        def outer(s: rigid.State) -> None:
+            if not added:
+                added["cb"] = c.on_state(lambda s2: inner.append(s2.tick))
+                added_at.append(s.tick)
+
+        with c.on_state(outer):
+            assert wait_for(lambda: len(inner) >= 10)
+        added["cb"].close()
+        assert inner[0] > added_at[0] and inner == sorted(inner), (added_at, inner[:5])
     ticks = [t for t, _ in got]
     assert all(b > a for a, b in zip(ticks, ticks[1:])), ticks
     threads = {t for _, t in got}

@@ -106,8 +106,11 @@ void StateDelivery::run_callbacks(const std::shared_ptr<const StateFrame>& state
         e.discard_as_unraisable("rigid.Client.on_state callback");
       }
     }
-    // Handles closed from inside a callback, and callbacks that raised, leave the list here.
+    // Handles closed from inside a callback, and callbacks that raised, leave the list here;
+    // callbacks added from inside one join it (they get the next state).
     std::erase_if(callbacks_, [](const auto& c) { return !c->active.load(); });
+    callbacks_.insert(callbacks_.end(), added_.begin(), added_.end());
+    added_.clear();
     any_callback_.store(!callbacks_.empty());
   }
   delivering_.store(std::thread::id{});
@@ -124,6 +127,10 @@ void StateDelivery::remove_queue(const std::shared_ptr<StateQueue>& q) {
 }
 
 void StateDelivery::add_callback(const std::shared_ptr<StateCallback>& c) {
+  if (in_callback()) {  // this thread holds the lock and walks the list: joins it after the walk
+    added_.push_back(c);
+    return;
+  }
   const py::gil_scoped_release nogil;  // the receive thread may hold the lock, waiting for the GIL
   const std::lock_guard lock(callbacks_mutex_);
   callbacks_.push_back(c);

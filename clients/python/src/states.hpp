@@ -76,7 +76,8 @@ class StateDelivery {
   void remove_queue(const std::shared_ptr<StateQueue>& q);
 
   // With the GIL held. remove_callback returns once the callback is not running and will not
-  // run again; called from inside a callback it only marks it (its delivery drops it after).
+  // run again; called from inside a callback it only marks it (its delivery drops it after),
+  // and add_callback there lets the new one join after this delivery.
   void add_callback(const std::shared_ptr<StateCallback>& c);
   void remove_callback(const std::shared_ptr<StateCallback>& c);
   // With the GIL, once no delivery can come any more (the session closed): ends them all.
@@ -93,6 +94,7 @@ class StateDelivery {
   std::vector<std::shared_ptr<StateQueue>> queues_;
   std::mutex callbacks_mutex_;
   std::vector<std::shared_ptr<StateCallback>> callbacks_;
+  std::vector<std::shared_ptr<StateCallback>> added_;  // from inside a callback (same lock)
   std::atomic<bool> any_callback_{false};
   std::atomic<std::thread::id> delivering_{};
 };
