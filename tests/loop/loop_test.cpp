@@ -211,7 +211,7 @@ std::pair<double, std::int64_t> loop_seconds_since(Harness& h, std::int64_t from
   const std::lock_guard lock(h.out.mutex);
   const auto& t = h.out.ticks;
   const auto first = std::find(t.begin(), t.end(), from);
-  if (first == t.end() || t.empty()) return {-1.0, -1};
+  if (first == t.end()) return {-1.0, -1};
   const std::size_t i = static_cast<std::size_t>(first - t.begin());
   return {static_cast<double>(h.out.tick_ns.back() - h.out.tick_ns[i]) * 1e-9, t.back() - from};
 }

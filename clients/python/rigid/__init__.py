@@ -270,7 +270,7 @@ class Client:
         Keep ``fn`` short: while it runs, this client receives nothing, and while another
         thread of yours runs Python code the call waits for the GIL. Inside ``fn``, ``send()``,
         ``latest()``, ``scene()`` and ``body()`` work; calls that would wait for the bus
-        (``push()``, controls, a stream's ``next()``) raise RuntimeError instead, since the
+        (``push()``, controls, a stream's ``next()``, ``close()``) raise RuntimeError, since the
         answer would have to come through this very thread. An exception from ``fn`` ends the
         callback: it is reported through ``sys.unraisablehook`` and kept in ``.error``.
         Returns a handle: ``close()`` it (or use ``with``) to stop; closing the client stops it.
