@@ -12,6 +12,7 @@
 // constants and quadrature nodes for this h) is cached until something changes its momentum.
 #include <type_traits>
 
+#include "physics/hybrid_lanes.hpp"
 #include "physics/kernels.hpp"
 
 namespace rigid::physics::detail {
@@ -241,15 +242,23 @@ void hybrid_loaded(G& g, const Model& m, Range r) {
   }
 }
 
+// The default (TripleJump) steps the loaded axisymmetric and general bodies several at once
+// (hybrid_lanes.hpp); the isotropic ones, and every loaded body of the Suzuki candidate, one by
+// one.
 template <class Comp>
 void step_hybrid_with(Model& m, Share& sh) {
   exact_points(m.point, m, sh.all[PointGroup::kIndex]);
   exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
   hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
   exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
-  hybrid_loaded<Comp>(m.axi, m, sh.run[AxiGroup::kIndex][1]);
   exact_quiet(m.gen, m, sh.run[GenGroup::kIndex][0]);
-  hybrid_loaded<Comp>(m.gen, m, sh.run[GenGroup::kIndex][1]);
+  if constexpr (std::is_same_v<Comp, TripleJump>) {
+    hybrid_loaded_lanes(m.axi, m, sh.run[AxiGroup::kIndex][1]);
+    hybrid_loaded_lanes(m.gen, m, sh.run[GenGroup::kIndex][1]);
+  } else {
+    hybrid_loaded<Comp>(m.axi, m, sh.run[AxiGroup::kIndex][1]);
+    hybrid_loaded<Comp>(m.gen, m, sh.run[GenGroup::kIndex][1]);
+  }
 }
 
 }  // namespace

@@ -174,6 +174,9 @@ struct TripleJump {
 
 struct Model {
   double dt = 1e-3;
+  // Lanes of hybrid4's batched kernel for loaded bodies (hybrid_lanes.hpp): 8, 4 or 2, chosen for
+  // the CPU when the world is built. Every width gives the same states.
+  int lanes = 2;
   // Body-steps in which a body turned by more than pi under an integrator that is not exact for
   // large rotations (all but the exact-rotor splittings): counted so that callers can report
   // them; the step itself is taken as the scheme defines it, never clamped. The sum of the

@@ -6,6 +6,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "physics/hybrid_lanes.hpp"
 #include "physics/inertia.hpp"
 #include "physics/kernels.hpp"
 #include "physics/model.hpp"
@@ -399,6 +400,7 @@ void World::Impl::compile() {
   }
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
+  model.lanes = detail::pick_lane_width();
 
   const auto has_drag = [&](int i) {
     const BodySpec& b = spec.bodies[i];

@@ -1,0 +1,131 @@
+// hybrid4's loaded bodies in batches (hybrid_lanes.hpp): gathers W bodies of a group into a
+// LaneBatch, runs the kernel of width W that the CPU supports, scatters the states back.
+#include "physics/hybrid_lanes.hpp"
+
+#include <cstdlib>
+#include <cstring>
+
+#include "physics/math.hpp"
+#include "physics/model.hpp"
+
+namespace rigid::physics::detail {
+
+static_assert(kSmallAngle == 1.0 / 16.0, "hybrid_lanes_kernel.cpp restates kSmallAngle");
+
+int pick_lane_width() {
+  int widest = 2;
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) {
+    widest = 8;
+  } else if (__builtin_cpu_supports("avx2")) {
+    widest = 4;
+  }
+#endif
+  // A test knob, not a tuning one: every width gives the same bits, so only tests need to choose.
+  if (const char* e = std::getenv("RIGID_LANES")) {
+    const int want = std::strcmp(e, "2") == 0 ? 2 : std::strcmp(e, "4") == 0 ? 4 : 0;
+    if (want != 0 && want <= widest) return want;
+  }
+  return widest;
+}
+
+namespace {
+
+void put(LaneBatch::L* d, int l, const Vec3& s) {
+  d[0][l] = s.x();
+  d[1][l] = s.y();
+  d[2][l] = s.z();
+}
+
+template <class G>
+void gather(const G& g, const Model& m, int i, int l, LaneBatch& b) {
+  const Motion& mo = g.motion[i];
+  b.qw[l] = mo.q.w();
+  b.qx[l] = mo.q.x();
+  b.qy[l] = mo.q.y();
+  b.qz[l] = mo.q.z();
+  put(b.x, l, mo.x);
+  put(b.v, l, mo.v);
+  put(b.m, l, mo.spin);
+  const Linear& lin = g.linear[i];
+  put(b.g, l, lin.g);
+  put(b.inv_m, l, lin.inv_m);
+  for (int k = 0; k < 2; ++k) {
+    const TransCoef& c = m.tc(lin, k == 0 ? kForced0 : kForced1);
+    b.E[k][l] = c.E;
+    b.p1[k][l] = c.p1;
+    b.p2[k][l] = c.p2;
+    b.q2[k][l] = c.q2;
+    b.q3[k][l] = c.q3;
+  }
+  const DiagRot& r = g.rot[i];
+  put(b.inv_I, l, r.inv_I);
+  put(b.decay, l, r.drag_rates());
+  const Loads& L = g.loads[i];
+  b.body_force[l] = (L.flags & Loads::kBodyForce) ? -1 : 0;
+  b.world_torque[l] = (L.flags & Loads::kWorldTorque) ? -1 : 0;
+  b.lever[l] = (L.flags & Loads::kLever) ? -1 : 0;
+  put(b.f_W, l, L.f_W);
+  put(b.f_P, l, L.f_P);
+  put(b.tau_P, l, L.tau_P);
+  put(b.tau_W, l, L.tau_W);
+  for (int r0 = 0; r0 < 3; ++r0)
+    for (int c0 = 0; c0 < 3; ++c0)
+      b.fr[r0][c0][l] = L.fr(r0, c0);
+}
+
+template <class G>
+void scatter(const LaneBatch& b, int l, G& g, int i) {
+  Motion& mo = g.motion[i];
+  mo.q = Quat(b.qw[l], b.qx[l], b.qy[l], b.qz[l]);
+  mo.x = Vec3(b.x[0][l], b.x[1][l], b.x[2][l]);
+  mo.v = Vec3(b.v[0][l], b.v[1][l], b.v[2][l]);
+  mo.spin = Vec3(b.m[0][l], b.m[1][l], b.m[2][l]);
+}
+
+template <class G>
+void run(G& g, const Model& m, Range r, bool general) {
+  using C = TripleJump;
+  static_assert(C::kStages == LaneStages::kStages);
+  LaneStages st{};
+  for (int k = 0; k < C::kStages; ++k) {
+    st.s[k] = C::kStage[k] * m.dt;
+    st.size[k] = C::kSize[k] == kForced0 ? 0 : 1;
+  }
+  st.general = general;
+  const int W = m.lanes;
+  LaneBatch b;
+  for (int i = r.begin; i < r.end; i += W) {
+    const int n = r.end - i < W ? r.end - i : W;
+    // Lanes past the run's end repeat its first body of this batch and are never written back.
+    for (int l = 0; l < W; ++l)
+      gather(g, m, l < n ? i + l : i, l, b);
+    switch (W) {
+      case 8:
+        lanes8::step(b, st);
+        break;
+      case 4:
+        lanes4::step(b, st);
+        break;
+      default:
+        lanes2::step(b, st);
+        break;
+    }
+    for (int l = 0; l < n; ++l) {
+      scatter(b, l, g, i + l);
+      g.plan_ok[i + l] = 0;  // the momentum changed: the cached free-rotor plan is stale
+    }
+  }
+}
+
+}  // namespace
+
+void hybrid_loaded_lanes(GenGroup& g, const Model& m, Range r) {
+  run(g, m, r, true);
+}
+void hybrid_loaded_lanes(AxiGroup& g, const Model& m, Range r) {
+  run(g, m, r, false);
+}
+
+}  // namespace rigid::physics::detail
