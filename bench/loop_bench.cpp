@@ -32,7 +32,9 @@
 //
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
 // --publish-every K (a state every K ticks, default 10), --point-masses (weightless point masses
-// instead of the racket: the cheapest physics, so that the buses limit the state rate), --csv FILE
+// instead of the racket: the cheapest physics, so that the buses limit the state rate),
+// --loaded-every K (every K-th racket from body 2 on carries a body-fixed thruster from the scene:
+// it costs the step what a body a controller keeps pushing costs; 3: a third), --csv FILE
 // (appends one row per bus, for bench/plot_loop.py), --histogram FILE (appends the tick lateness
 // histogram, see below).
 //
@@ -109,6 +111,7 @@ struct Options {
   int publish_every = 10;
   int steps = 2000;  // paced: ticks per step request
   bool point_masses = false;
+  int loaded_every = 0;  // 0: no body carries a load from the scene
   std::string csv, histogram;
   std::string rigidd = RIGIDD_EXE;
   std::vector<std::string> rigidd_args;  // --rigidd-arg, passed on
@@ -161,6 +164,8 @@ Options parse(int argc, char** argv) {
       o.publish_every = std::stoi(value());
     } else if (a == "--point-masses") {
       o.point_masses = true;
+    } else if (a == "--loaded-every") {
+      o.loaded_every = std::stoi(value());
     } else if (a == "--csv") {
       o.csv = value();
     } else if (a == "--histogram") {
@@ -178,13 +183,20 @@ Options parse(int argc, char** argv) {
   if (o.bodies < 2 || o.duration <= 0) throw std::invalid_argument("bad --bodies or --duration");
   if (o.publish_every < 1) throw std::invalid_argument("bad --publish-every");
   if (o.steps < 1) throw std::invalid_argument("bad --steps");
+  if (o.loaded_every < 0) throw std::invalid_argument("bad --loaded-every");
+  if (o.loaded_every > 0 && o.point_masses) {
+    throw std::invalid_argument("--loaded-every needs the rackets, not --point-masses");
+  }
   return o;
 }
 
 // step_bench's racket case as a scene file.
 // With point_masses, weightless point masses instead (3-10 ns per body-step rather than ~50): the
 // physics then leaves the buses as the limit of the state rate.
-std::string write_scene(const fs::path& dir, int bodies, int publish_every, bool point_masses) {
+// With loaded_every K > 0, every K-th racket from body 2 on carries a constant body-fixed thruster
+// off its centre (bodies 0 and 1 are the controllers': their states must change only when pushed).
+std::string write_scene(const fs::path& dir, int bodies, int publish_every, bool point_masses,
+                        int loaded_every) {
   const fs::path path = dir / "bench.pbtxt";
   std::ofstream out(path);
   out << "world { rate_hz: 1000 substeps: 1 publish_every: " << publish_every
@@ -201,6 +213,13 @@ std::string write_scene(const fs::path& dir, int bodies, int publish_every, bool
                     "angular_velocity { x: %.17g y: 5 z: 0.001 } }\n",
                     i, 1e-3 + 1e-6 * i);
     }
+    out << line;
+  }
+  for (int i = 2; loaded_every > 0 && i < bodies; ++i) {
+    if (i % loaded_every != 0) continue;
+    std::snprintf(line, sizeof line,
+                  "force { body: \"b%d\" force { z: 0.5 } point { x: 0.2 y: 0.05 } frame: BODY }\n",
+                  i);
     out << line;
   }
   return path.string();
@@ -567,12 +586,16 @@ int run(const Options& o) {
   }
   const fs::path dir = fs::temp_directory_path() / ("loop_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string scene = write_scene(dir, o.bodies, o.publish_every, o.point_masses);
+  const std::string scene =
+      write_scene(dir, o.bodies, o.publish_every, o.point_masses, o.loaded_every);
   const std::string prefix = "bench" + std::to_string(::getpid());
-  std::printf("loop_bench %s: %d bodies (%s), 1 kHz, a state every %d ticks on %s, %.0f s\n",
+  std::printf("loop_bench %s: %d bodies (%s%s), 1 kHz, a state every %d ticks on %s, %.0f s\n",
               o.mode.c_str(), o.bodies,
-              o.point_masses ? "point masses" : "step_bench's racket case", o.publish_every,
-              o.transport.c_str(), o.duration);
+              o.point_masses ? "point masses" : "step_bench's racket case",
+              o.loaded_every > 0
+                  ? (", every " + std::to_string(o.loaded_every) + "th with a thruster").c_str()
+                  : "",
+              o.publish_every, o.transport.c_str(), o.duration);
 
   // Subscribers first, so rigidd's first states find them. Body 0 is the DDS controller's, body 1
   // the LCM one's.
@@ -773,8 +796,8 @@ int main(int argc, char** argv) {
       std::printf(
           "usage: loop_bench realtime|fast|paced|timer [--bodies N] [--duration S] "
           "[--transport dds|lcm|dds,lcm]\n"
-          "                  [--publish-every K] [--point-masses] [--push-every-ms MS] "
-          "[--no-subscribers] [--steps N]\n"
+          "                  [--publish-every K] [--point-masses] [--loaded-every K] "
+          "[--push-every-ms MS] [--no-subscribers] [--steps N]\n"
           "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
           "ARG]... [--security KEYSTORE]\n"
           "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
