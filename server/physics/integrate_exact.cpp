@@ -14,6 +14,7 @@
 
 #include "physics/hybrid_lanes.hpp"
 #include "physics/kernels.hpp"
+#include "physics/rotor_lanes.hpp"
 
 namespace rigid::physics::detail {
 
@@ -107,6 +108,37 @@ void exact_quiet(G& g, const Model& m, Range r) {
     translate(m.tc(g.linear[i], kFull), g.linear[i].accel(g.loads[i].f_W), b.x, b.v);
     drift_cached(g, i, h);
   }
+}
+
+// exact_quiet for general bodies, their rotation several at once (rotor_lanes.hpp): the bodies
+// whose cached plan can step in a batch fill batches of m.lanes; the others (a plan to make, a
+// still body, a long step) take the scalar path. Both give the same bits, so the route a body
+// takes depends on nothing but its own plan.
+void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
+  const int width = m.lanes;
+  RotorBatch b;
+  int idx[RotorBatch::kMax];
+  int n = 0;
+  const auto flush = [&] {
+    for (int l = n; l < width; ++l)
+      rotor_gather(g, idx[0], l, b);  // padding, not written back
+    rotor_step_lanes(width, b);
+    for (int l = 0; l < n; ++l)
+      rotor_scatter(b, l, g, idx[l]);
+    n = 0;
+  };
+  for (int i = r.begin; i < r.end; ++i) {
+    Motion& mo = g.motion[i];
+    translate(m.tc(g.linear[i], kFull), g.linear[i].accel(g.loads[i].f_W), mo.x, mo.v);
+    if (!rotor_lane_ready(g, i)) {
+      drift_cached(g, i, m.dt);
+      continue;
+    }
+    rotor_gather(g, i, n, b);
+    idx[n++] = i;
+    if (n == width) flush();
+  }
+  if (n > 0) flush();
 }
 
 // The composition of kick-drift-kick stages S(c_k h), k = 1..n, for one body, with the stage's
@@ -251,7 +283,7 @@ void step_hybrid_with(Model& m, Share& sh) {
   exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
   hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
   exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
-  exact_quiet(m.gen, m, sh.run[GenGroup::kIndex][0]);
+  exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
   if constexpr (std::is_same_v<Comp, TripleJump>) {
     hybrid_loaded_lanes(m.axi, m, sh.run[AxiGroup::kIndex][1]);
     hybrid_loaded_lanes(m.gen, m, sh.run[GenGroup::kIndex][1]);

@@ -1,0 +1,146 @@
+// The exact free rotor's cached step over lanes of RIGID_LANE_WIDTH general bodies (see
+// rotor_lanes.hpp). Every line restates free_rotor.cpp's advance_rotor (RotorUpdate::kPinned, the
+// axis frame carried: case_coords, phase_of, the addition theorem, finish_step) and
+// integrate_exact.cpp's drift_cached (q <- q dq, renormalize) with the same operations in the same
+// order; the parenthesised groupings below are the ones C++ and Eigen evaluate there. Change one
+// side and the other with it: threads_test's Hybrid4.FreeBodiesTakeTheExactRotorStep compares them
+// bit for bit.
+#include "physics/lanes.hpp"
+#include "physics/rotor_lanes.hpp"
+
+namespace rigid::physics::detail::RIGID_LANE_NS {
+
+namespace {
+
+static_assert(W <= RotorBatch::kMax);
+
+// Eigen's quaternion product a b as its SSE2 path computes it (Geometry_SIMD.h, quat_product for
+// double): the terms paired as there.
+inline Q mul_eigen(const Q& a, const Q& b) {
+  return {(a.w * b.w - a.y * b.y) - (a.z * b.z + a.x * b.x),
+          (a.w * b.x + a.y * b.z) - (a.z * b.y - a.x * b.w),
+          (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+          (a.w * b.z - a.y * b.x) + (a.z * b.w + a.x * b.y)};
+}
+
+// math.hpp's renormalize with Eigen's sum of squares over the coefficients (x, y, z, w) in two
+// packets: (x^2 + z^2) + (y^2 + w^2).
+inline void renormalize_eigen(Q& q) {
+  const V n2 = (q.x * q.x + q.z * q.z) + (q.y * q.y + q.w * q.w);
+  const Mask near = abs(n2 - 1.0) < 1e-8;
+  const V f = 1.5 - 0.5 * n2;
+  Q out{q.w * f, q.x * f, q.y * f, q.z * f};
+  if (!all(near)) {
+    for (int l = 0; l < W; ++l) {
+      if (!near[l]) {
+        const double n = std::sqrt(n2[l]);
+        out.w[l] = q.w[l] / n;
+        out.x[l] = q.x[l] / n;
+        out.y[l] = q.y[l] / n;
+        out.z[l] = q.z[l] / n;
+      }
+    }
+  }
+  q = out;
+}
+
+// 1 / sqrt(x) per lane, as the scalar code writes it (IEEE sqrt and division: exact per lane).
+inline V inv_sqrt(V x) {
+  V r;
+  for (int l = 0; l < W; ++l)
+    r[l] = 1.0 / std::sqrt(x[l]);
+  return r;
+}
+
+}  // namespace
+
+void rotor_step(RotorBatch& b) {
+  const Mask case_b = load_mask(b.case_b);
+  const V s = load(b.s), ia = load(b.ia), ib = load(b.ib), cn_bias = load(b.cn_bias);
+  const V k2 = load(b.k2), mc = load(b.mc), cG = load(b.cG), mS2 = load(b.mS2);
+  const V C = load(b.C), D = load(b.D), S = load(b.S), mSC = load(b.mSC);
+  const V a = load(b.a), bb = load(b.b), c = load(b.c), lin = load(b.lin), abG2 = load(b.abG2);
+  const V G = load(b.G);
+  const V3 m = load3(b.m);
+
+  // case_coords
+  const V x1 = select(case_b, m.z, m.x), x2 = select(case_b, -m.y, m.y);
+  const V x3 = select(case_b, m.x, m.z);
+  (void)x3;  // kPinned rebuilds m from the phase; x3 is read only by RotorUpdate::kIncrement
+  // phase_of, a plan not fresh: one Newton step onto sn^2 + cn^2 = 1.
+  V s0 = x2 * ib;
+  V c0 = s * x1 * ia + cn_bias;
+  const V n2 = s0 * s0 + c0 * c0;
+  const Mask near = abs(n2 - 1.0) < 1e-8;
+  V f = 1.5 - 0.5 * n2;
+  if (!all(near)) {
+    for (int l = 0; l < W; ++l) {
+      if (!near[l]) f[l] = 1.0 / std::sqrt(n2[l]);
+    }
+  }
+  s0 *= f;
+  c0 *= f;
+  V d0;
+  {
+    const V r = mc + k2 * c0 * c0;
+    for (int l = 0; l < W; ++l)
+      d0[l] = std::sqrt(r[l]);
+  }
+  // The psi integral's nodes by the addition theorem, summed as one fraction.
+  V top = splat(0.0), bottom = splat(1.0);
+  const V sc0 = s0 * c0, ss0 = s0 * s0;
+  for (int i = 0; i < RotorBatch::kNodes; ++i) {
+    const Mask on = load_mask(b.node[i]);
+    if (!any(on)) break;
+    const V num = d0 * load(b.Dn[i]) - load(b.mSCn[i]) * sc0;
+    const V den = (1.0 - load(b.mS2n[i]) * ss0) + cG * num;
+    top = select(on, top * den + load(b.w[i]) * num * bottom, top);
+    bottom = select(on, bottom * den, bottom);
+  }
+  const V integral = top / bottom;
+  const V e = mS2 * ss0;
+  const V inv = 1.0 / (1.0 - e);
+  const V sn1 = (s0 * C * D + S * c0 * d0) * inv;
+  const V cn1 = (c0 * C - s0 * d0 * S * D) * inv;
+  const V dn1 = (d0 * D - mSC * sc0) * inv;
+  const V y1 = s * a * cn1, y2 = bb * sn1, y3 = s * c * dn1;
+  const V correction = abG2 * integral;
+
+  // finish_step with the axis frame carried.
+  const V dpsi = s * (lin - correction);
+  V cz, sincz;
+  cos_sinc(0.5 * dpsi, cz, sincz);
+  const V sz = 0.5 * dpsi * sincz;
+  const V w1 = G + s * y3;
+  Q p0{load(b.aw), load(b.ax), load(b.ay), load(b.az)};
+  if (const Mask rebuild = ~(p0.w > 0.0); any(rebuild)) {
+    const V w0 = G + c * d0;
+    const V n0 = inv_sqrt(2.0 * G * w0);
+    const Q fresh{w0 * n0, s * bb * s0 * n0, -a * c0 * n0, splat(0.0)};
+    p0 = {select(rebuild, fresh.w, p0.w), select(rebuild, fresh.x, p0.x),
+          select(rebuild, fresh.y, p0.y), select(rebuild, fresh.z, p0.z)};
+  }
+  const V n1 = inv_sqrt(2.0 * G * w1);
+  const Q p1{w1 * n1, s * y2 * n1, -s * y1 * n1, splat(0.0)};
+  const Q u{cz * p1.w, cz * p1.x - sz * p1.y, cz * p1.y + sz * p1.x, sz * p1.w};
+  const Q d = mul_eigen(conj(p0), u);
+  store(b.aw, p1.w);
+  store(b.ax, p1.x);
+  store(b.ay, p1.y);
+  store(b.az, p1.z);
+  // Back from case coordinates.
+  const V3 m1{select(case_b, y3, y1), select(case_b, -y2, y2), select(case_b, y1, y3)};
+  const Q dq{d.w, select(case_b, d.z, d.x), select(case_b, -d.y, d.y), select(case_b, d.x, d.z)};
+  store3(b.m, m1);
+
+  // drift_cached: q <- q dq, renormalised.
+  Q q{load(b.qw), load(b.qx), load(b.qy), load(b.qz)};
+  q = mul_eigen(q, dq);
+  renormalize_eigen(q);
+  store(b.qw, q.w);
+  store(b.qx, q.x);
+  store(b.qy, q.y);
+  store(b.qz, q.z);
+}
+
+}  // namespace rigid::physics::detail::RIGID_LANE_NS
