@@ -176,14 +176,11 @@ struct OneStage {
   static constexpr TransSize kSize[1] = {kFull};
 };
 
-// exact_rotor / exact_rotor4: one path per body, the choice made per body inside the loop.
+// exact_rotor / exact_rotor4: the quiet run takes the exact free step (general bodies over lanes,
+// as hybrid4's), the loaded run the composition with exact drifts.
 template <class G>
-void exact_group(G& g, const Model& m, bool fourth_order, Range r) {
+void exact_loaded(G& g, const Model& m, bool fourth_order, Range r) {
   for (int i = r.begin; i < r.end; ++i) {
-    if (g.loads[i].quiet()) {
-      exact_quiet(g, m, Range{i, i + 1});
-      continue;
-    }
     invalidate(g, i);
     const auto exact = [&](int j, double s) { drift(g, j, s); };
     if (fourth_order) {
@@ -297,9 +294,12 @@ void step_hybrid_with(Model& m, Share& sh) {
 
 void step_exact(Model& m, bool fourth_order, Share& sh) {
   exact_points(m.point, m, sh.all[PointGroup::kIndex]);
-  exact_group(m.iso, m, fourth_order, sh.all[IsoGroup::kIndex]);
-  exact_group(m.axi, m, fourth_order, sh.all[AxiGroup::kIndex]);
-  exact_group(m.gen, m, fourth_order, sh.all[GenGroup::kIndex]);
+  exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
+  exact_loaded(m.iso, m, fourth_order, sh.run[IsoGroup::kIndex][1]);
+  exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
+  exact_loaded(m.axi, m, fourth_order, sh.run[AxiGroup::kIndex][1]);
+  exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
+  exact_loaded(m.gen, m, fourth_order, sh.run[GenGroup::kIndex][1]);
 }
 
 void step_hybrid(Model& m, Share& sh, int variant) {
