@@ -24,7 +24,10 @@ int pick_lane_width() {
 #endif
   // A test knob, not a tuning one: every width gives the same bits, so only tests need to choose.
   if (const char* e = std::getenv("RIGID_LANES")) {
-    const int want = std::strcmp(e, "2") == 0 ? 2 : std::strcmp(e, "4") == 0 ? 4 : 0;
+    const int want = std::strcmp(e, "1") == 0   ? 1
+                     : std::strcmp(e, "2") == 0 ? 2
+                     : std::strcmp(e, "4") == 0 ? 4
+                                                : 0;
     if (want != 0 && want <= widest) return want;
   }
   return widest;

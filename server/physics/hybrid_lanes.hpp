@@ -58,8 +58,9 @@ void step(LaneBatch& b, const LaneStages& st);
 }
 
 // The widest kernel this CPU runs (8, 4 or 2), or a narrower one named by RIGID_LANES=2|4 in the
-// environment (tests compare the kernels; a width the CPU cannot run is not taken). Read when a
-// World is built, kept in Model::lanes.
+// environment (tests compare the kernels; a width the CPU cannot run is not taken); RIGID_LANES=1:
+// no lanes, every body through the scalar code (tests hold the kernels to it). Read when a World
+// is built, kept in Model::lanes.
 int pick_lane_width();
 
 // Below: the part that knows the model (hybrid_lanes.cpp).

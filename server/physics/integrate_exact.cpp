@@ -116,6 +116,7 @@ void exact_quiet(G& g, const Model& m, Range r) {
 // takes depends on nothing but its own plan.
 void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
   const int width = m.lanes;
+  if (width == 1) return exact_quiet(g, m, r);
   RotorBatch b;
   int idx[RotorBatch::kMax];
   int n = 0;
@@ -272,8 +273,8 @@ void hybrid_loaded(G& g, const Model& m, Range r) {
 }
 
 // The default (TripleJump) steps the loaded axisymmetric and general bodies several at once
-// (hybrid_lanes.hpp); the isotropic ones, and every loaded body of the Suzuki candidate, one by
-// one.
+// (hybrid_lanes.hpp); the isotropic ones, every loaded body of the Suzuki candidate, and all of
+// them with m.lanes == 1 (the scalar reference), one by one.
 template <class Comp>
 void step_hybrid_with(Model& m, Share& sh) {
   exact_points(m.point, m, sh.all[PointGroup::kIndex]);
@@ -281,7 +282,7 @@ void step_hybrid_with(Model& m, Share& sh) {
   hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
   exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
   exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
-  if constexpr (std::is_same_v<Comp, TripleJump>) {
+  if (std::is_same_v<Comp, TripleJump> && m.lanes > 1) {
     hybrid_loaded_lanes(m.axi, m, sh.run[AxiGroup::kIndex][1]);
     hybrid_loaded_lanes(m.gen, m, sh.run[GenGroup::kIndex][1]);
   } else {

@@ -174,8 +174,8 @@ struct TripleJump {
 
 struct Model {
   double dt = 1e-3;
-  // Lanes of hybrid4's batched kernel for loaded bodies (hybrid_lanes.hpp): 8, 4 or 2, chosen for
-  // the CPU when the world is built. Every width gives the same states.
+  // Lanes of the batched kernels (hybrid_lanes.hpp, rotor_lanes.hpp): 8, 4 or 2, chosen for the CPU
+  // when the world is built; every width gives the same states. 1: the scalar code (tests).
   int lanes = 2;
   // Body-steps in which a body turned by more than pi under an integrator that is not exact for
   // large rotations (all but the exact-rotor splittings): counted so that callers can report

@@ -4,9 +4,9 @@
 // scalar code's arithmetic operation for operation, in its order (Eigen's SSE2 quaternion product
 // and sum of squares included), so each lane's result is bit for bit what advance_rotor and
 // integrate_exact.cpp's drift_cached give: a body steps to the same states whichever path, width,
-// lane or thread steps it, and hybrid4's free bodies stay exactly exact_rotor4's (threads_test's
-// Hybrid4.FreeBodiesTakeTheExactRotorStep holds the kernel to it). Built per instruction set like
-// hybrid_lanes.hpp's kernel; the dispatch and what a batch holds are here.
+// lane or thread steps it, and hybrid4's free bodies stay exactly exact_rotor4's (lanes_test's
+// Lanes.FreeBodiesStepBitForBitAsTheScalarCode holds the kernel to it). Built per instruction set
+// like hybrid_lanes.hpp's kernel; the dispatch and what a batch holds are here.
 #pragma once
 
 #include <cstdint>

@@ -3,8 +3,8 @@
 // axis frame carried: case_coords, phase_of, the addition theorem, finish_step) and
 // integrate_exact.cpp's drift_cached (q <- q dq, renormalize) with the same operations in the same
 // order; the parenthesised groupings below are the ones C++ and Eigen evaluate there. Change one
-// side and the other with it: threads_test's Hybrid4.FreeBodiesTakeTheExactRotorStep compares them
-// bit for bit.
+// side and the other with it: lanes_test's Lanes.FreeBodiesStepBitForBitAsTheScalarCode compares
+// them bit for bit (RIGID_LANES=1 runs the scalar code).
 #include "physics/lanes.hpp"
 #include "physics/rotor_lanes.hpp"
 

@@ -308,7 +308,7 @@ def test_stepping_releases_the_gil() -> None:
     t = threading.Thread(target=count)
     t.start()
     start = time.perf_counter()
-    w.step(300)
+    w.step(1000)  # ~25 ns per body-step: ~50 ms
     elapsed = time.perf_counter() - start
     done.set()
     t.join()
