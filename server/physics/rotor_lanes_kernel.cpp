@@ -65,8 +65,7 @@ void rotor_step(RotorBatch& b) {
 
   // case_coords
   const V x1 = select(case_b, m.z, m.x), x2 = select(case_b, -m.y, m.y);
-  const V x3 = select(case_b, m.x, m.z);
-  (void)x3;  // kPinned rebuilds m from the phase; x3 is read only by RotorUpdate::kIncrement
+  // (x3 is read only by RotorUpdate::kIncrement: kPinned rebuilds m from the phase.)
   // phase_of, a plan not fresh: one Newton step onto sn^2 + cn^2 = 1.
   V s0 = x2 * ib;
   V c0 = s * x1 * ia + cn_bias;
