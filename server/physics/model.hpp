@@ -144,11 +144,11 @@ struct Range {
   int begin = 0, end = 0;
 };
 
-// The share of one step's work that one thread does: per group (by kIndex), a contiguous slice of
-// all its entries (for integrators with one path), and a slice of each run (quiet, loaded) for
-// those with a path per kind. The slices of all threads cover each group exactly once; a body's
-// arithmetic never depends on which thread or slice steps it, so states are bit-identical for any
-// number of threads.
+// One chunk of a step's work, which one thread claims and does (pool.hpp): per group (by kIndex),
+// a contiguous slice of all its entries (for integrators with one path), and a slice of each run
+// (quiet, loaded) for those with a path per kind. The slices of all chunks cover each group
+// exactly once; a body's arithmetic never depends on which thread or slice steps it, so states are
+// bit-identical for any number of threads.
 struct Share {
   Range all[4];
   Range run[4][2];  // [group][0: quiet, 1: loaded]

@@ -7,7 +7,7 @@ namespace {
 
 // How long a waiting thread polls before it sleeps: between steps run back to back, longer than
 // any one step of a world big enough to be split (its shares take microseconds to milliseconds);
-// otherwise a moment, which covers a share finishing just after the caller's.
+// otherwise a moment, which covers a chunk finishing just after the caller's last.
 constexpr std::chrono::microseconds kPollBetweenSteps{10000};
 constexpr std::chrono::microseconds kPollOtherwise{20};
 
@@ -34,53 +34,86 @@ std::uint32_t await_change(const std::atomic<std::uint32_t>& value, std::uint32_
   }
 }
 
+// The claim word's fields (pool.hpp).
+constexpr std::uint64_t claim_word(std::uint32_t gen, std::uint32_t next, std::uint32_t count) {
+  return (std::uint64_t{gen} << 32) | (std::uint64_t{next} << 16) | count;
+}
+constexpr std::uint32_t claim_gen(std::uint64_t w) {
+  return static_cast<std::uint32_t>(w >> 32);
+}
+constexpr std::uint32_t claim_next(std::uint64_t w) {
+  return (w >> 16) & 0xffffu;
+}
+constexpr std::uint32_t claim_count(std::uint64_t w) {
+  return w & 0xffffu;
+}
+
 }  // namespace
 
 Pool::Pool(int threads) : size_(threads) {
   workers_.reserve(static_cast<std::size_t>(threads - 1));
   handles_.reserve(static_cast<std::size_t>(threads - 1));
   for (int k = 1; k < threads; ++k) {
-    workers_.emplace_back([this, k] { work(k); });
+    workers_.emplace_back([this] { work(); });
     handles_.push_back(workers_.back().native_handle());
   }
 }
 
 Pool::~Pool() {
-  stop_ = true;  // published to the workers with the new generation
+  stop_.store(true, std::memory_order_relaxed);  // published with the new generation
   generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   for (std::thread& t : workers_)
     t.join();
 }
 
-void Pool::work(int k) {
+void Pool::run_chunks(std::uint32_t gen) {
+  std::uint64_t w = claim_.load(std::memory_order_acquire);
+  for (;;) {
+    if (claim_gen(w) != gen || claim_next(w) >= claim_count(w)) return;
+    if (!claim_.compare_exchange_weak(w, w + (std::uint64_t{1} << 16), std::memory_order_acquire,
+                                      std::memory_order_acquire))
+      continue;  // w now holds the current word
+    // The chunk is ours: the caller cannot publish another run (and rewrite job_ and ctx_)
+    // before it is done.
+    job_(ctx_, static_cast<int>(claim_next(w)));
+    // The count from our own copy of the word: once the last chunk is counted the caller may
+    // publish the next run.
+    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == claim_count(w)) done_.notify_one();
+    w = claim_.load(std::memory_order_acquire);
+  }
+}
+
+void Pool::work() {
   std::uint32_t seen = 0;
   bool poll_long = false;
   for (;;) {
     seen = await_change(generation_, seen, poll_long ? kPollBetweenSteps : kPollOtherwise);
-    if (stop_) return;
-    poll_long = another_follows_;  // read before the caller may write the next run's
-    job_(ctx_, k);
-    if (running_.fetch_sub(1, std::memory_order_acq_rel) == 1) running_.notify_one();
+    if (stop_.load(std::memory_order_relaxed)) return;
+    poll_long = another_follows_.load(std::memory_order_relaxed);
+    run_chunks(seen);
   }
 }
 
-void Pool::run(Job job, void* ctx, bool another_follows) {
+void Pool::run(Job job, void* ctx, int chunks, bool another_follows) {
   if (size_ == 1) {
-    job(ctx, 0);
+    for (int c = 0; c < chunks; ++c)
+      job(ctx, c);
     return;
   }
+  const auto count = static_cast<std::uint32_t>(chunks);
   job_ = job;
   ctx_ = ctx;
-  another_follows_ = another_follows;
-  running_.store(static_cast<std::uint32_t>(size_ - 1), std::memory_order_relaxed);
-  generation_.fetch_add(1, std::memory_order_release);
+  another_follows_.store(another_follows, std::memory_order_relaxed);
+  done_.store(0, std::memory_order_relaxed);
+  const std::uint32_t gen = generation_.load(std::memory_order_relaxed) + 1;
+  claim_.store(claim_word(gen, 0, count), std::memory_order_release);
+  generation_.store(gen, std::memory_order_release);
   generation_.notify_all();
-  job(ctx, 0);
+  run_chunks(gen);
   const auto poll = another_follows ? kPollBetweenSteps : kPollOtherwise;
-  for (std::uint32_t left = running_.load(std::memory_order_acquire); left != 0;) {
-    left = await_change(running_, left, poll);
-  }
+  for (std::uint32_t d = done_.load(std::memory_order_acquire); d != count;)
+    d = await_change(done_, d, poll);
 }
 
 }  // namespace rigid::physics::detail

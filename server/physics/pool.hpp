@@ -1,11 +1,21 @@
 // A fixed pool of threads for World::step: created once (World construction or set_threads),
-// reused for every step. A run hands each thread k in [0, size) one call job(ctx, k), the calling
-// thread taking k = 0, and returns once all are done: no allocation, no locking. The job decides
-// what k does, so that the split of the work, and thus every result, is the caller's alone.
+// reused for every step. A run splits the work into `chunks` independent calls job(ctx, c),
+// c in [0, chunks), which the calling thread and the workers claim one at a time; it returns once
+// every chunk is done: no allocation, no locking. The job decides what chunk c does, so that the
+// split of the work, and thus every result, is the caller's alone: which thread runs a chunk
+// changes nothing.
 //
-// Hand-over: a run publishes a new generation, which the workers wait for; the caller waits for
-// a count of running workers to reach zero. A waiting thread polls for a moment and then sleeps
-// (std::atomic::wait: a futex). When the caller says that another run follows at once
+// Why chunks are claimed rather than handed out one share per thread: a worker that sleeps
+// between two rigidd ticks is woken late (tens to hundreds of microseconds on a busy 2-core VM)
+// and may be preempted by the publishers on its CPU. With a fixed share per thread the tick waited
+// for the latest thread's whole share; with claimed chunks the caller starts at once, takes
+// whatever the workers have not, and waits only for the chunks already begun. A run is never
+// slower than the caller alone by more than one chunk.
+//
+// Hand-over: a run publishes one word (its number, the next chunk, the chunk count), which the
+// threads advance by compare-and-swap, and a new generation, which the workers wait for; the
+// caller waits for the count of finished chunks. A waiting thread polls for a moment and then
+// sleeps (std::atomic::wait: a futex). When the caller says that another run follows at once
 // (World::step(n)), the workers poll for it instead of sleeping: a thread that sleeps between two
 // steps run back to back is woken late and runs its share slower for a while after (its idle CPU
 // was given up): on this project's 2-core VM, 10^4 and 10^5 thrusters stepped 1.71-1.79x faster
@@ -23,7 +33,8 @@ namespace rigid::physics::detail {
 
 class Pool {
  public:
-  using Job = void (*)(void* ctx, int k);
+  using Job = void (*)(void* ctx, int chunk);
+  static constexpr int kMaxChunks = 0xffff;
   // threads >= 1; spawns threads - 1 workers.
   explicit Pool(int threads);
   ~Pool();
@@ -31,23 +42,30 @@ class Pool {
   Pool& operator=(const Pool&) = delete;
 
   int size() const { return size_; }
-  // `another_follows`: the caller will run again as soon as this run returns.
-  void run(Job job, void* ctx, bool another_follows = false);
+  // Runs job(ctx, c) once for every c in [0, chunks), chunks in [1, kMaxChunks], on the calling
+  // thread and the workers. `another_follows`: the caller will run again as soon as this returns.
+  void run(Job job, void* ctx, int chunks, bool another_follows = false);
   // The workers' native handles (k = 1 .. size - 1), so that a caller can place them (rigidd keeps
   // them off the CPU its real-time loop is pinned to).
   const std::vector<std::thread::native_handle_type>& worker_handles() const { return handles_; }
 
  private:
-  void work(int k);
+  void work();
+  // Claims and runs chunks of run `gen` until none is left or a newer run was published.
+  void run_chunks(std::uint32_t gen);
   int size_;
-  // Written by the caller before it publishes a generation, read by the workers after they saw it.
+  // Written by the caller before it publishes a run; a worker reads them only after it claimed a
+  // chunk of that run, which the caller waits for before it may write the next run's.
   Job job_ = nullptr;
   void* ctx_ = nullptr;
-  bool stop_ = false;
-  bool another_follows_ = false;
-  // Each on a cache line of its own: the workers poll the first, the caller the second.
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> another_follows_{false};
+  // Each on a cache line of its own. claim_: bits 32-63 the run's generation, 16-31 the next
+  // chunk, 0-15 the chunk count. A worker woken late for an old run sees a newer generation here
+  // and claims nothing of it under the old one's number.
   alignas(64) std::atomic<std::uint32_t> generation_{0};
-  alignas(64) std::atomic<std::uint32_t> running_{0};
+  alignas(64) std::atomic<std::uint64_t> claim_{0};
+  alignas(64) std::atomic<std::uint32_t> done_{0};
   std::vector<std::thread> workers_;
   std::vector<std::thread::native_handle_type> handles_;
 };

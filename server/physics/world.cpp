@@ -151,7 +151,7 @@ struct World::Impl {
   }
   void set_threads(int n);
   void step(bool another_follows);
-  void plan_shares(int used);
+  void plan_shares(int parts);
   void run_share(detail::Share& sh);
   // Called after anything that may change whether a body's loads leave it quiet.
   void loads_changed(int id, bool was_quiet) {
@@ -522,7 +522,7 @@ void World::Impl::set_threads(int n) {
   if (n < 0) throw std::invalid_argument("threads must be >= 0, got " + std::to_string(n));
   if (n == 0) n = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   threads = n;
-  shares.assign(static_cast<std::size_t>(n), detail::Share{});
+  shares.assign(static_cast<std::size_t>(n > 1 ? kChunksPerThread * n : 1), detail::Share{});
   pool.pool = n > 1 ? std::make_unique<detail::Pool>(n) : nullptr;
 }
 
@@ -534,16 +534,16 @@ detail::Range slice(int b, int e, int k, int used) {
 }
 }  // namespace
 
-void World::Impl::plan_shares(int used) {
+void World::Impl::plan_shares(int parts) {
   const Group* gs[4] = {&model.point, &model.iso, &model.axi, &model.gen};
-  for (int k = 0; k < used; ++k) {
+  for (int k = 0; k < parts; ++k) {
     detail::Share& sh = shares[k];
     sh.large_rotations = 0;
     for (int gi = 0; gi < 4; ++gi) {
       const int n = gs[gi]->size(), q = gs[gi]->quiet_end;
-      sh.all[gi] = slice(0, n, k, used);
-      sh.run[gi][0] = slice(0, q, k, used);
-      sh.run[gi][1] = slice(q, n, k, used);
+      sh.all[gi] = slice(0, n, k, parts);
+      sh.run[gi][0] = slice(0, q, k, parts);
+      sh.run[gi][1] = slice(q, n, k, parts);
     }
   }
 }
@@ -785,21 +785,23 @@ void World::Impl::step(bool another_follows) {
   if (!w.regroup_ids.empty()) w.regroup();
   const int bodies = static_cast<int>(w.slot.size());
   const int used = std::max(1, std::min(w.threads, bodies / kMinBodiesPerThread));
-  w.plan_shares(used);
-  if (used == 1) {
+  // On several threads the step is cut into chunks that the threads claim (pool.hpp): small
+  // enough that a thread which starts late or is preempted leaves little for the others to wait
+  // for, large enough that claiming one (a compare-and-swap) costs nothing beside it.
+  const int parts =
+      used == 1 ? 1 : std::clamp(bodies / kBodiesPerChunk, used, kChunksPerThread * w.threads);
+  w.plan_shares(parts);
+  if (parts == 1) {
     w.run_share(w.shares[0]);
   } else {
-    // Threads beyond `used` get empty shares.
-    for (int k = used; k < w.threads; ++k)
-      w.shares[k] = detail::Share{};
     w.pool.pool->run(
-        [](void* ctx, int k) {
+        [](void* ctx, int c) {
           Impl& impl = *static_cast<Impl*>(ctx);
-          impl.run_share(impl.shares[k]);
+          impl.run_share(impl.shares[c]);
         },
-        &w, another_follows);
+        &w, parts, another_follows);
   }
-  for (int k = 0; k < used; ++k)
+  for (int k = 0; k < parts; ++k)
     w.model.large_rotations += w.shares[k].large_rotations;
   ++w.steps;
   if (w.steps % kGuardEvery == 0) w.guard();

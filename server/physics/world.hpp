@@ -83,11 +83,15 @@ class World {
   void step(std::int64_t n);
 
   // The threads that step the world: each body model's bodies are split over a fixed pool, created
-  // here once (no thread is created or lock taken while stepping beyond the pool's barrier). Small
-  // worlds (fewer than kMinBodiesPerThread bodies a thread) are stepped on the calling thread
+  // here once (no thread is created or lock taken while stepping beyond the pool's hand-over).
+  // Small worlds (fewer than kMinBodiesPerThread bodies a thread) are stepped on the calling thread
   // alone. States are bit-identical for any count. n = 0: the hardware concurrency. Throws
   // std::invalid_argument for n < 0.
   static constexpr int kMinBodiesPerThread = 256;
+  // A step on several threads is cut into chunks of at least kBodiesPerChunk bodies, at most
+  // kChunksPerThread per thread, which the threads claim one at a time (physics/pool.hpp).
+  static constexpr int kBodiesPerChunk = 256;
+  static constexpr int kChunksPerThread = 32;
   void set_threads(int n);
   int threads() const;
   // The pool's worker threads (threads() - 1 of them; the caller of step() is the first thread),

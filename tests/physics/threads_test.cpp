@@ -4,11 +4,16 @@
 // nothing.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
+#include <chrono>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "allocation_counter.hpp"
+#include "physics/pool.hpp"
 #include "test_util.hpp"
 
 namespace rigid::test {
@@ -98,6 +103,39 @@ TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
       const std::uint64_t h = hash_of(w);
       if (first == 0) first = h;
       EXPECT_EQ(h, first) << "'" << integrator << "' with " << threads << " threads";
+    }
+  }
+}
+
+// The pool behind World::step: every chunk of every run is run exactly once and all of them are
+// done when run() returns, whether the workers poll between runs or sleep and wake late (the
+// caller may then have claimed a whole run alone and published the next one before they look).
+TEST(Pool, RunsEveryChunkOnceAndAllBeforeReturning) {
+  struct Ctx {
+    std::array<std::atomic<int>, 64> calls{};
+    std::atomic<int> slow{-1};  // this chunk takes a while (another thread must take the rest)
+  } ctx;
+  for (int threads : {2, 3}) {
+    physics::detail::Pool pool(threads);
+    for (int run = 0; run < 3000; ++run) {
+      const int chunks = 1 + (run * 7) % 64;
+      for (auto& c : ctx.calls)
+        c.store(0, std::memory_order_relaxed);
+      ctx.slow.store(run % 5 == 0 ? run % chunks : -1, std::memory_order_relaxed);
+      pool.run(
+          [](void* p, int c) {
+            Ctx& x = *static_cast<Ctx*>(p);
+            if (c == x.slow.load(std::memory_order_relaxed))
+              std::this_thread::sleep_for(std::chrono::microseconds(50));
+            x.calls[static_cast<std::size_t>(c)].fetch_add(1, std::memory_order_relaxed);
+          },
+          &ctx, chunks, run % 3 == 1);
+      for (int c = 0; c < 64; ++c)
+        ASSERT_EQ(ctx.calls[static_cast<std::size_t>(c)].load(), c < chunks ? 1 : 0)
+            << "chunk " << c << " of " << chunks << ", run " << run << ", " << threads
+            << " threads";
+      // Now and then a pause, so that the workers go to sleep and wake late for the next run.
+      if (run % 4 == 0) std::this_thread::sleep_for(std::chrono::microseconds(40 * (run % 3)));
     }
   }
 }
