@@ -65,7 +65,7 @@ void gather(const G& g, const Model& m, int i, int l, LaneBatch& b) {
   const DiagRot& r = g.rot[i];
   put(b.inv_I, l, r.inv_I);
   put(b.decay, l, r.drag_rates());
-  const Loads& L = g.loads[i];
+  const LoadsRef L = g.load(i);
   b.body_force[l] = (L.flags & Loads::kBodyForce) ? -1 : 0;
   b.world_torque[l] = (L.flags & Loads::kWorldTorque) ? -1 : 0;
   b.lever[l] = (L.flags & Loads::kLever) ? -1 : 0;

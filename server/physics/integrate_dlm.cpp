@@ -37,7 +37,7 @@ void dlm_group(G& g, const Model& m, Share& sh) {
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
-    const Loads& L = g.loads[i];
+    const LoadsRef L = g.load(i);
     const TransCoef& half = m.tc(lin, kHalf);
     Vec3 rate = Vec3::Zero();
     if constexpr (kRotates) {

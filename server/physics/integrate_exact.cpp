@@ -94,7 +94,7 @@ void exact_points(PointGroup& g, const Model& m, Range r) {
   for (int i = r.begin; i < r.end; ++i) {
     Motion& b = g.motion[i];
     const Linear& lin = g.linear[i];
-    translate(m.tc(lin, kFull), lin.accel(g.loads[i].force_W(b.q)), b.x, b.v);
+    translate(m.tc(lin, kFull), lin.accel(g.load(i).force_W(b.q)), b.x, b.v);
   }
 }
 
@@ -152,7 +152,7 @@ inline void compose_loaded(G& g, const Model& m, int i, Drift&& drift) {
   const double h = m.dt;
   Motion& b = g.motion[i];
   const Linear& lin = g.linear[i];
-  const Loads& L = g.loads[i];
+  const LoadsRef L = g.load(i);
   const auto& rot = g.rot[i];
   const Vec3 rates = rot.drag_rates();
   Vec3 a0 = lin.accel(L.force_W(b.q));

@@ -22,7 +22,7 @@ void implicit_gyro_group(G& g, const Model& m, Share& sh) {
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
-    const Loads& L = g.loads[i];
+    const LoadsRef L = g.load(i);
     const TransCoef& k = m.tc(lin, kFull);
     kick(k, lin.accel(L.force_W(s.q)), s.v);
     s.x += h * s.v;

@@ -27,7 +27,7 @@ void rk4_group(G& g, const Model& m, Share& sh) {
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
     const Linear& lin = g.linear[i];
-    const Loads& L = g.loads[i];
+    const LoadsRef L = g.load(i);
     // The stages' q drift off the unit sphere; loads that turn with the body are evaluated at the
     // normalised q (one reciprocal, not four divisions), the others need no q at all.
     const bool turns =

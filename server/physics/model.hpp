@@ -92,8 +92,64 @@ struct Group {
   std::vector<int> id;  // body id of each entry
   std::vector<Motion> motion;
   std::vector<Linear> linear;
-  std::vector<Loads> loads;  // spec loads + applied loads, in P
+  // Spec loads + applied loads, in P (loads.hpp: LoadHead): per entry the head, and the terms of
+  // the entries that have any in a pool, entry 0 all zero. The pool's capacity is reserved for
+  // every body when the world is built (reserve_terms), so that giving a body terms while stepping
+  // never allocates; capacity never used is never touched, so it takes no memory.
+  std::vector<LoadHead> loads;
+  std::vector<LoadTerms> terms;
+  std::vector<std::int32_t> free_terms;  // pool entries given back, capacity reserved
   int size() const { return static_cast<int>(id.size()); }
+
+  LoadsRef load(int i) const {
+    const LoadHead& h = loads[i];
+    return LoadsRef(h, terms[h.terms]);
+  }
+  Loads load_value(int i) const {
+    const LoadsRef r = load(i);
+    Loads v;
+    v.flags = r.flags;
+    v.f_W = r.f_W;
+    v.f_P = r.f_P;
+    v.tau_P = r.tau_P;
+    v.tau_W = r.tau_W;
+    v.fr = r.fr;
+    return v;
+  }
+  // Stores v as entry i's loads: its terms take a pool entry if they are not all zero, and give it
+  // back otherwise. Allocation-free once reserve_terms has run.
+  void set_load(int i, const Loads& v) {
+    LoadHead& h = loads[i];
+    h.flags = v.flags;
+    h.f_W = v.f_W;
+    if ((v.flags & LoadFlags::kTerms) == 0) {
+      if (h.terms != 0) {
+        free_terms.push_back(h.terms);
+        h.terms = 0;
+      }
+      return;
+    }
+    if (h.terms == 0) {
+      if (free_terms.empty()) {
+        h.terms = static_cast<std::int32_t>(terms.size());
+        terms.emplace_back();
+      } else {
+        h.terms = free_terms.back();
+        free_terms.pop_back();
+      }
+    }
+    LoadTerms& t = terms[h.terms];
+    t.f_P = v.f_P;
+    t.tau_P = v.tau_P;
+    t.tau_W = v.tau_W;
+    t.fr = v.fr;
+  }
+  // Capacity for every entry to have terms at once (and the shared zero entry).
+  void reserve_terms() {
+    if (terms.empty()) terms.emplace_back();
+    terms.reserve(id.size() + 1);
+    free_terms.reserve(id.size());
+  }
 };
 
 struct PointGroup : Group {

@@ -108,9 +108,14 @@ struct World::Impl {
   std::vector<Pending> pending;
   // Body ids in ascending order of name, for find_body (a hash map of the names cost ~70 B a body).
   std::vector<int> by_name;
-  // The guard (see World::frozen_bodies): each body's last state that passed the check, and who
-  // is frozen (its translational parameters before the freeze come back from the spec: linear_of).
-  std::vector<Motion> last_good;
+  // The guard (see World::frozen_bodies): the pose of each body's last state that passed the check
+  // (a frozen body is put back there at rest, so its velocities need no copy), and who is frozen
+  // (its translational parameters before the freeze come back from the spec: linear_of).
+  struct Pose {
+    Quat q = Quat::Identity();
+    Vec3 x = Vec3::Zero();
+  };
+  std::vector<Pose> last_good;
   std::vector<std::uint8_t> frozen;
   std::vector<int> frozen_ids;  // capacity reserved: no allocation
   // Bodies whose loads may have moved them between the quiet and the loaded run of their group
@@ -149,13 +154,24 @@ struct World::Impl {
     if (s.model == BodyModel::kGeneral) return model.gen.q_BP[s.index];
     return Quat::Identity();
   }
+  // A copied vector keeps its elements but not its capacity: what stepping relies on having
+  // reserved (no allocation while stepping) is reserved again in a copy.
+  void reserve_scratch() {
+    const std::size_t n = slot.size();
+    pending.reserve(n);
+    frozen_ids.reserve(n);
+    regroup_ids.reserve(n);
+    for (Group* g : {static_cast<Group*>(&model.point), static_cast<Group*>(&model.iso),
+                     static_cast<Group*>(&model.axi), static_cast<Group*>(&model.gen)})
+      g->reserve_terms();
+  }
   void set_threads(int n);
   void step(bool another_follows);
   void plan_shares(int parts);
   void run_share(detail::Share& sh);
   // Called after anything that may change whether a body's loads leave it quiet.
   void loads_changed(int id, bool was_quiet) {
-    if (loads(id).quiet() != was_quiet && !regroup_flag[id]) {
+    if (load(id).quiet() != was_quiet && !regroup_flag[id]) {
       regroup_flag[id] = 1;
       regroup_ids.push_back(id);  // within the reserved capacity
     }
@@ -179,7 +195,9 @@ struct World::Impl {
   const Group& group(BodyModel m) const { return const_cast<Impl*>(this)->group(m); }
   Motion& motion(int id) { return group(slot[id].model).motion[slot[id].index]; }
   const Motion& motion(int id) const { return group(slot[id].model).motion[slot[id].index]; }
-  Loads& loads(int id) { return group(slot[id].model).loads[slot[id].index]; }
+  detail::LoadsRef load(int id) const { return group(slot[id].model).load(slot[id].index); }
+  Loads load_value(int id) const { return group(slot[id].model).load_value(slot[id].index); }
+  void set_loads(int id, const Loads& v) { group(slot[id].model).set_load(slot[id].index, v); }
   const Linear& linear(int id) const { return group(slot[id].model).linear[slot[id].index]; }
   void invalidate_cache(int id);
   void set_state(int id, const BodyState& s);
@@ -437,11 +455,12 @@ void World::Impl::compile() {
                    l.torque_frame == Frame::kBody);
     }
   }
+  reserve_scratch();
   for (std::size_t k = 0; k < base_ids.size(); ++k)
-    loads(base_ids[k]) = base_values[k];
+    set_loads(base_ids[k], base_values[k]);
   last_good.resize(n);
   for (int i = 0; i < n; ++i)
-    last_good[i] = motion(i);
+    last_good[i] = {motion(i).q, motion(i).x};
   frozen.assign(n, 0);
   frozen_ids.clear();
   frozen_ids.reserve(n);
@@ -499,7 +518,7 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
 void World::Impl::place(int id) {
   const Slot s = slot[id];
   Group& g = group(s.model);
-  const bool quiet = g.loads[s.index].quiet();
+  const bool quiet = g.load(s.index).quiet();
   if (quiet == (s.index < g.quiet_end)) return;
   if (quiet) {
     swap_entries(s.model, s.index, g.quiet_end);
@@ -597,7 +616,7 @@ void World::Impl::guard() {
     if (frozen[id]) continue;
     const Motion& m = motion(id);
     if (sane(m)) {
-      last_good[id] = m;
+      last_good[id] = {m.q, m.x};
     } else {
       freeze(id);
     }
@@ -606,7 +625,8 @@ void World::Impl::guard() {
 
 void World::Impl::freeze(int id) {
   Motion& m = motion(id);
-  m = last_good[id];
+  m.q = last_good[id].q;
+  m.x = last_good[id].x;
   m.v.setZero();
   m.spin.setZero();
   const Slot& s = slot[id];
@@ -615,8 +635,8 @@ void World::Impl::freeze(int id) {
   lin.inv_m.setZero();
   lin.gamma = 0.0;
   lin.drag = 0;
-  const bool was_quiet = loads(id).quiet();
-  loads(id) = Loads{};
+  const bool was_quiet = load(id).quiet();
+  set_loads(id, Loads{});
   loads_changed(id, was_quiet);
   if (pending_slot[id] >= 0) {
     pending[pending_slot[id]].J.setZero();
@@ -763,9 +783,14 @@ World::World(const WorldSpec& spec) : impl_(std::make_unique<Impl>()) {
 World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
-World::World(const World& o) : impl_(std::make_unique<Impl>(*o.impl_)) {}
+World::World(const World& o) : impl_(std::make_unique<Impl>(*o.impl_)) {
+  impl_->reserve_scratch();
+}
 World& World::operator=(const World& o) {
-  if (this != &o) impl_ = std::make_unique<Impl>(*o.impl_);
+  if (this != &o) {
+    impl_ = std::make_unique<Impl>(*o.impl_);
+    impl_->reserve_scratch();
+  }
   return *this;
 }
 
@@ -952,7 +977,7 @@ void World::reset() {
   w.pending.clear();
   clear_applied();
   for (int i = 0; i < body_count(); ++i)
-    w.last_good[i] = w.motion(i);
+    w.last_good[i] = {w.motion(i).q, w.motion(i).x};
 }
 
 void World::clear_applied() {
@@ -962,16 +987,16 @@ void World::clear_applied() {
   for (int i = 0; i < body_count(); ++i) {
     const bool has_base = k < w.base_ids.size() && w.base_ids[k] == i;
     const Loads& base = has_base ? w.base_values[k++] : kNone;
-    const bool was_quiet = w.loads(i).quiet();
-    w.loads(i) = w.frozen[i] ? Loads{} : base;
+    const bool was_quiet = w.load(i).quiet();
+    w.set_loads(i, w.frozen[i] ? Loads{} : base);
     w.loads_changed(i, was_quiet);
   }
 }
 
 void World::clear_applied(int id) {
   impl_->check_id(id);
-  const bool was_quiet = impl_->loads(id).quiet();
-  impl_->loads(id) = impl_->frozen[id] ? Loads{} : impl_->base_load(id);
+  const bool was_quiet = impl_->load(id).quiet();
+  impl_->set_loads(id, impl_->frozen[id] ? Loads{} : impl_->base_load(id));
   impl_->loads_changed(id, was_quiet);
 }
 
@@ -989,8 +1014,10 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const Quat q_PB = w.rot_BP(id).conjugate();
   const bool body = frame == Frame::kBody;
-  const bool was_quiet = w.loads(id).quiet();
-  w.loads(id).add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
+  const bool was_quiet = w.load(id).quiet();
+  Loads v = w.load_value(id);
+  v.add_force(body ? Vec3(q_PB * f) : f, q_PB * p_BoQ_B, body);
+  w.set_loads(id, v);
   w.loads_changed(id, was_quiet);
 }
 
@@ -999,8 +1026,10 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
   w.check_id(id);
   if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
-  const bool was_quiet = w.loads(id).quiet();
-  w.loads(id).add_torque(body ? Vec3(w.rot_BP(id).conjugate() * tau) : tau, body);
+  const bool was_quiet = w.load(id).quiet();
+  Loads v = w.load_value(id);
+  v.add_torque(body ? Vec3(w.rot_BP(id).conjugate() * tau) : tau, body);
+  w.set_loads(id, v);
   w.loads_changed(id, was_quiet);
 }
 

@@ -176,6 +176,31 @@ TEST(WorldThreads, SteppingAllocatesNothing) {
   EXPECT_EQ(allocation_count(), before);
 }
 
+// A copy keeps what stepping relies on having reserved (a copied vector does not keep its
+// capacity): giving loads to every body at once, impulses to every body and stepping allocate
+// nothing in a copy either.
+TEST(WorldThreads, ACopySteppingAllocatesNothing) {
+  const World original(crowd(2 * World::kMinBodiesPerThread, "", 2));
+  World w = original;
+  World assigned(crowd(3, "", 1));
+  assigned = original;
+  for (World* c : {&w, &assigned}) {
+    c->step(2);
+    const long before = allocation_count();
+    for (int round = 0; round < 3; ++round) {
+      for (int i = 0; i < c->body_count(); ++i) {
+        c->add_force(i, {0, 0, 1}, {0.1, 0, 0}, Frame::kBody);
+        c->add_force(i, {1, 0, 0}, {0, 0.2, 0}, Frame::kWorld);
+        c->apply_impulse(i, {0, 0, 0.1}, {0.1, 0, 0}, Frame::kBody);
+      }
+      c->step(3);
+      c->clear_applied();
+      c->step(2);
+    }
+    EXPECT_EQ(allocation_count(), before);
+  }
+}
+
 // A body's trajectory is the same alone and in a crowd whose other bodies' loads start and stop
 // (so that it changes place in its model's arrays many times), for every body model.
 TEST(WorldRegroup, ABodyMovesBetweenRunsWithoutChangingItsTrajectory) {
