@@ -31,6 +31,7 @@
 //     subscriber would otherwise share). The probe's identity needs `control` with --security.
 //
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
+// --rate HZ (the scene's tick rate, default 1000; the timer's period in timer mode),
 // --publish-every K (a state every K ticks, default 10), --point-masses (weightless point masses
 // instead of the racket: the cheapest physics, so that the buses limit the state rate),
 // --loaded-every K (every K-th racket from body 2 on carries a body-fixed thruster from the scene:
@@ -109,7 +110,8 @@ struct Options {
   std::vector<Bus> buses{Bus::kDds, Bus::kLcm};
   std::string transport = "dds,lcm";
   int publish_every = 10;
-  int steps = 2000;  // paced: ticks per step request
+  int rate_hz = 1000;  // the scene's tick rate (the timer's, in timer mode)
+  int steps = 2000;    // paced: ticks per step request
   bool point_masses = false;
   int loaded_every = 0;  // 0: no body carries a load from the scene
   std::string csv, histogram;
@@ -162,6 +164,8 @@ Options parse(int argc, char** argv) {
       o.steps = std::stoi(value());
     } else if (a == "--publish-every") {
       o.publish_every = std::stoi(value());
+    } else if (a == "--rate") {
+      o.rate_hz = std::stoi(value());
     } else if (a == "--point-masses") {
       o.point_masses = true;
     } else if (a == "--loaded-every") {
@@ -182,6 +186,7 @@ Options parse(int argc, char** argv) {
   }
   if (o.bodies < 2 || o.duration <= 0) throw std::invalid_argument("bad --bodies or --duration");
   if (o.publish_every < 1) throw std::invalid_argument("bad --publish-every");
+  if (o.rate_hz < 1 || o.rate_hz > 10000) throw std::invalid_argument("--rate: 1 .. 10000 Hz");
   if (o.steps < 1) throw std::invalid_argument("bad --steps");
   if (o.loaded_every < 0) throw std::invalid_argument("bad --loaded-every");
   if (o.loaded_every > 0 && o.point_masses) {
@@ -195,11 +200,11 @@ Options parse(int argc, char** argv) {
 // physics then leaves the buses as the limit of the state rate.
 // With loaded_every K > 0, every K-th racket from body 2 on carries a constant body-fixed thruster
 // off its centre (bodies 0 and 1 are the controllers': their states must change only when pushed).
-std::string write_scene(const fs::path& dir, int bodies, int publish_every, bool point_masses,
-                        int loaded_every) {
+std::string write_scene(const fs::path& dir, int bodies, int rate_hz, int publish_every,
+                        bool point_masses, int loaded_every) {
   const fs::path path = dir / "bench.pbtxt";
   std::ofstream out(path);
-  out << "world { rate_hz: 1000 substeps: 1 publish_every: " << publish_every
+  out << "world { rate_hz: " << rate_hz << " substeps: 1 publish_every: " << publish_every
       << " gravity { z: 0 } }\n";
   char line[256];
   for (int i = 0; i < bodies; ++i) {
@@ -505,20 +510,21 @@ std::vector<std::string> histogram_rows(const std::string& key, const std::strin
 }
 
 // The platform's own timer: a bare thread at rigidd's loop priority (SCHED_FIFO 10, timer slack
-// 1 ns) sleeping to absolute 1 ms deadlines, optionally spinning the last spin_us. What rigidd's
-// tick lateness cannot beat on this machine.
+// 1 ns) sleeping to absolute deadlines 1 / rate apart (1 ms by default), optionally spinning the
+// last spin_us. What rigidd's tick lateness cannot beat on this machine.
 int run_timer(const Options& o, std::int64_t spin_us) {
   sched_param param{};
   param.sched_priority = 10;
   const bool fifo = sched_setscheduler(0, SCHED_FIFO, &param) == 0;
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  const auto n = static_cast<std::size_t>(o.duration * 1000);
+  const std::int64_t period_ns = 1'000'000'000 / o.rate_hz;
+  const auto n = static_cast<std::size_t>(o.duration * o.rate_hz);
   std::vector<double> late;
   late.reserve(n);
-  const std::int64_t t0 = now_ns() + 1'000'000;
+  const std::int64_t t0 = now_ns() + period_ns;
   int over_1ms = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    const std::int64_t deadline = t0 + static_cast<std::int64_t>(k) * 1'000'000;
+    const std::int64_t deadline = t0 + static_cast<std::int64_t>(k) * period_ns;
     const std::int64_t wake = deadline - spin_us * 1000;
     timespec ts{static_cast<time_t>(wake / 1'000'000'000), static_cast<long>(wake % 1'000'000'000)};
     clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
@@ -526,7 +532,7 @@ int run_timer(const Options& o, std::int64_t spin_us) {
     }
     const std::int64_t l = now_ns() - deadline;
     late.push_back(static_cast<double>(l) * 1e-3);
-    over_1ms += l > 1'000'000;
+    over_1ms += l > period_ns;
   }
   const Percentiles p = percentiles(late);
   std::printf(
@@ -540,10 +546,12 @@ int run_timer(const Options& o, std::int64_t spin_us) {
            o.duration, static_cast<long long>(spin_us), p.n, over_1ms, p.p50, p.p99, p.max)});
   // Every tick, and the worst of each second (to set beside rigidd's per-second maxima).
   std::vector<double> second_max;
-  for (std::size_t k = 0; k < late.size(); k += 1000) {
+  const auto per_second = static_cast<std::size_t>(o.rate_hz);
+  for (std::size_t k = 0; k < late.size(); k += per_second) {
     const auto from = late.begin() + static_cast<std::ptrdiff_t>(k);
     second_max.push_back(*std::max_element(
-        from, from + static_cast<std::ptrdiff_t>(std::min<std::size_t>(1000, late.size() - k))));
+        from,
+        from + static_cast<std::ptrdiff_t>(std::min<std::size_t>(per_second, late.size() - k))));
   }
   const std::string key = fmt("%d,timer,0,none,%lld", ::getpid(), static_cast<long long>(spin_us));
   append_csv(o.histogram, kHistogramHeader, histogram_rows(key, "timer_samples", late));
@@ -587,15 +595,15 @@ int run(const Options& o) {
   const fs::path dir = fs::temp_directory_path() / ("loop_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string scene =
-      write_scene(dir, o.bodies, o.publish_every, o.point_masses, o.loaded_every);
+      write_scene(dir, o.bodies, o.rate_hz, o.publish_every, o.point_masses, o.loaded_every);
   const std::string prefix = "bench" + std::to_string(::getpid());
-  std::printf("loop_bench %s: %d bodies (%s%s), 1 kHz, a state every %d ticks on %s, %.0f s\n",
+  std::printf("loop_bench %s: %d bodies (%s%s), %d Hz, a state every %d ticks on %s, %.0f s\n",
               o.mode.c_str(), o.bodies,
               o.point_masses ? "point masses" : "step_bench's racket case",
               o.loaded_every > 0
                   ? (", every " + std::to_string(o.loaded_every) + "th with a thruster").c_str()
                   : "",
-              o.publish_every, o.transport.c_str(), o.duration);
+              o.rate_hz, o.publish_every, o.transport.c_str(), o.duration);
 
   // Subscribers first, so rigidd's first states find them. Body 0 is the DDS controller's, body 1
   // the LCM one's.
@@ -796,7 +804,7 @@ int main(int argc, char** argv) {
       std::printf(
           "usage: loop_bench realtime|fast|paced|timer [--bodies N] [--duration S] "
           "[--transport dds|lcm|dds,lcm]\n"
-          "                  [--publish-every K] [--point-masses] [--loaded-every K] "
+          "                  [--rate HZ] [--publish-every K] [--point-masses] [--loaded-every K] "
           "[--push-every-ms MS] [--no-subscribers] [--steps N]\n"
           "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
           "ARG]... [--security KEYSTORE]\n"
