@@ -247,7 +247,7 @@ class Loader {
   }
 
   void load_bodies() {
-    std::map<std::string, int, std::less<>> first;  // name -> body index
+    std::map<std::string, int, std::less<>>& first = body_index_;  // name -> body index
     for (int i = 0; i < msg_.body_size(); ++i) {
       const std::string& name = msg_.body(i).name();
       const TextNode node = body_node(i);
@@ -413,10 +413,10 @@ class Loader {
       const msgs::Force& f = msg_.force(i);
       const TextNode node = force_node(i);
       const std::string label = force_label(i);
-      int body = -1;
-      for (int k = 0; k < msg_.body_size(); ++k) {
-        if (msg_.body(k).name() == f.body()) body = k;
-      }
+      // By name, from the index load_bodies built (names are unique): a scan of every body per
+      // force made a scene of 10^5 bodies and 3 x 10^4 forces take 44 s to load.
+      const auto found = body_index_.find(f.body());
+      const int body = found == body_index_.end() ? -1 : found->second;
       if (f.body().empty()) fail(node.at("body"), label + ": body must name the body it acts on");
       if (body < 0) fail(node.at("body"), label + ": no body named '" + printable(f.body()) + "'");
       // proto3 enums are open: the parser accepts any number for them.
@@ -504,6 +504,7 @@ class Loader {
   const msgs::Scene& msg_;
   TextNode root_;
   Scene scene_;
+  std::map<std::string, int, std::less<>> body_index_;  // name -> body index (load_bodies)
 };
 
 }  // namespace
