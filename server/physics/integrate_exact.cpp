@@ -39,7 +39,7 @@ inline void drift(AxiGroup& g, int i, double s) {
 inline void drift(GenGroup& g, int i, double s) {
   Motion& b = g.motion[i];
   Quat dq;
-  free_rotor_step(g.rotor[i], b.spin, s, dq);
+  free_rotor_step(g.rotor_of(i), b.spin, s, dq);
   b.q = b.q * dq;
   renormalize(b.q);
 }
@@ -69,7 +69,7 @@ inline void drift_cached(AxiGroup& g, int i, double h) {
 inline void drift_cached(GenGroup& g, int i, double h) {
   Motion& b = g.motion[i];
   if (!g.plan_ok[i]) {
-    make_rotor_plan(g.rotor[i], b.spin, h, g.plan[i]);
+    make_rotor_plan(g.rotor_of(i), b.spin, h, g.plan[i]);
     g.plan_ok[i] = 1;
     g.axis[i] = Quat(0.0, 0.0, 0.0, 0.0);
   }

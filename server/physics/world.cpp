@@ -1,7 +1,9 @@
 #include "physics/world.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <thread>
 #include <unordered_map>
@@ -312,6 +314,7 @@ void World::Impl::compile() {
   pending.clear();
   pending.reserve(n);
   std::unordered_map<double, int> drag_row{{0.0, 0}};
+  std::map<std::array<double, 3>, std::int32_t> rotor_row;  // principal moments -> rotors row
 
   for (int i = 0; i < n; ++i) {
     const BodySpec& b = spec.bodies[i];
@@ -406,7 +409,13 @@ void World::Impl::compile() {
         break;
       case BodyModel::kGeneral:
         model.gen.rot.push_back(diag);
-        model.gen.rotor.emplace_back(diag.I);
+        {
+          const std::array<double, 3> key{diag.I.x(), diag.I.y(), diag.I.z()};
+          auto [it, added] =
+              rotor_row.emplace(key, static_cast<std::int32_t>(model.gen.rotors.size()));
+          if (added) model.gen.rotors.emplace_back(diag.I);
+          model.gen.rotor.push_back(it->second);
+        }
         model.gen.plan.emplace_back();
         model.gen.plan_ok.push_back(0);
         model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
