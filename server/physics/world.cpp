@@ -167,6 +167,11 @@ struct World::Impl {
                      static_cast<Group*>(&model.axi), static_cast<Group*>(&model.gen)})
       g->reserve_terms();
   }
+  // The most chunks a step is cut into (World::kChunksPerThread; what the pool can count).
+  int max_chunks() const {
+    return static_cast<int>(
+        std::min<long>(long{kChunksPerThread} * threads, detail::Pool::kMaxChunks));
+  }
   void set_threads(int n);
   void step(bool another_follows);
   void plan_shares(int parts);
@@ -550,7 +555,7 @@ void World::Impl::set_threads(int n) {
   if (n < 0) throw std::invalid_argument("threads must be >= 0, got " + std::to_string(n));
   if (n == 0) n = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   threads = n;
-  shares.assign(static_cast<std::size_t>(n > 1 ? kChunksPerThread * n : 1), detail::Share{});
+  shares.assign(static_cast<std::size_t>(n > 1 ? max_chunks() : 1), detail::Share{});
   pool.pool = n > 1 ? std::make_unique<detail::Pool>(n) : nullptr;
 }
 
@@ -823,7 +828,7 @@ void World::Impl::step(bool another_follows) {
   // enough that a thread which starts late or is preempted leaves little for the others to wait
   // for, large enough that claiming one (a compare-and-swap) costs nothing beside it.
   const int parts =
-      used == 1 ? 1 : std::clamp(bodies / kBodiesPerChunk, used, kChunksPerThread * w.threads);
+      used == 1 ? 1 : std::min(std::max(bodies / kBodiesPerChunk, used), w.max_chunks());
   w.plan_shares(parts);
   if (parts == 1) {
     w.run_share(w.shares[0]);
