@@ -483,6 +483,10 @@ void World::Impl::compile() {
   regroup_ids.reserve(n);
   for (int i = 0; i < n; ++i)
     place(i);
+  // The spec's loads live on compiled (base_ids, base_values); nothing reads the LoadSpecs again,
+  // and they cost 88 B each.
+  spec.loads.clear();
+  spec.loads.shrink_to_fit();
   set_threads(spec.threads);
 }
 
