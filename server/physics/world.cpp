@@ -316,8 +316,7 @@ void World::Impl::compile() {
   model.trans.gamma.push_back(0.0);
   slot.assign(n, Slot{});
   pending_slot.assign(n, -1);
-  pending.clear();
-  pending.reserve(n);
+  pending.clear();  // capacity: reserve_scratch, below
   std::unordered_map<double, int> drag_row{{0.0, 0}};
   std::map<std::array<double, 3>, std::int32_t> rotor_row;  // principal moments -> rotors row
 
@@ -477,10 +476,8 @@ void World::Impl::compile() {
     last_good[i] = {motion(i).q, motion(i).x};
   frozen.assign(n, 0);
   frozen_ids.clear();
-  frozen_ids.reserve(n);
   regroup_flag.assign(n, 0);
   regroup_ids.clear();
-  regroup_ids.reserve(n);
   for (int i = 0; i < n; ++i)
     place(i);
   // The spec's loads live on compiled (base_ids, base_values); nothing reads the LoadSpecs again,
