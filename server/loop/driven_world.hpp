@@ -30,6 +30,9 @@ class DrivenWorld {
   // One tick: loads the acting wrenches (in arrival order) into the world, runs `substeps`
   // physics steps, advances the tick and drops the wrenches that have expired. Allocation-free.
   void step_tick();
+  // The next step_tick comes within `within_ns`: the world's step threads get ready for it
+  // (World::expect_step). Changes no state.
+  void expect_tick(std::int64_t within_ns) { world_.expect_step(within_ns); }
   // The scene's initial state at tick 0, with no wrenches.
   void reset();
 

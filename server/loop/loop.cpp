@@ -142,6 +142,9 @@ bool Loop::sleep_to(std::int64_t deadline_ns) {
     // rate) returns without giving the CPU to anyone.
     if (wake - now >= kRestNs) last_rest_ns_ = monotonic_ns();
   }
+  // The step's other threads wake now and poll for it, as this thread spins to it: woken by the
+  // step itself they would start late, and this thread would step their share too.
+  driven_.expect_tick(deadline_ns - monotonic_ns());
   while (monotonic_ns() < deadline_ns)
     cpu_relax();
   return true;

@@ -1,5 +1,6 @@
 #include "physics/pool.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace rigid::physics::detail {
@@ -86,13 +87,25 @@ void Pool::run_chunks(std::uint32_t gen) {
 
 void Pool::work() {
   std::uint32_t seen = 0;
-  bool poll_long = false;
+  std::chrono::microseconds poll = kPollOtherwise;
   for (;;) {
-    seen = await_change(generation_, seen, poll_long ? kPollBetweenSteps : kPollOtherwise);
+    seen = await_change(generation_, seen, poll);
     if (stop_.load(std::memory_order_relaxed)) return;
-    poll_long = another_follows_.load(std::memory_order_relaxed);
+    poll = std::chrono::microseconds(poll_us_.load(std::memory_order_relaxed));
+    // An expect_run's generation has nothing to claim: this returns at once and the worker polls
+    // for the run that follows.
     run_chunks(seen);
   }
+}
+
+void Pool::expect_run(std::int64_t within_ns) {
+  if (size_ == 1) return;
+  const std::int64_t ns = std::clamp<std::int64_t>(within_ns, 0, kMaxExpectNs);
+  poll_us_.store(ns / 1000 + kPollOtherwise.count(), std::memory_order_relaxed);
+  // A new generation without a claim word of its own: claim_ still names the last run, so a
+  // worker finds nothing to claim under this one's number.
+  generation_.store(generation_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+  generation_.notify_all();
 }
 
 void Pool::run(Job job, void* ctx, int chunks, bool another_follows) {
@@ -104,7 +117,8 @@ void Pool::run(Job job, void* ctx, int chunks, bool another_follows) {
   const auto count = static_cast<std::uint32_t>(chunks);
   job_ = job;
   ctx_ = ctx;
-  another_follows_.store(another_follows, std::memory_order_relaxed);
+  poll_us_.store((another_follows ? kPollBetweenSteps : kPollOtherwise).count(),
+                 std::memory_order_relaxed);
   done_.store(0, std::memory_order_relaxed);
   const std::uint32_t gen = generation_.load(std::memory_order_relaxed) + 1;
   claim_.store(claim_word(gen, 0, count), std::memory_order_release);

@@ -22,6 +22,13 @@
 // on two threads than on one with sleeping workers, 1.93-1.97x with polling ones (forced_bench
 // --scaling, side by side). A single step (one rigidd tick) lets them sleep after a moment, so an
 // idle pool takes no CPU from anything else.
+//
+// A caller that knows when its next run comes (rigidd's loop, which wakes spin_ns before each
+// tick's deadline and spins to it) says so with expect_run: the workers wake now and poll for
+// that run, so that they are running when it is published instead of being woken by it; a worker
+// woken by the run itself starts tens to hundreds of microseconds late on a busy VM, and the caller
+// then steps most of the world alone (rigidd's step cost p99 at 10^4 bodies on two threads was
+// close to its cost on one).
 #pragma once
 
 #include <atomic>
@@ -45,6 +52,11 @@ class Pool {
   // Runs job(ctx, c) once for every c in [0, chunks), chunks in [1, kMaxChunks], on the calling
   // thread and the workers. `another_follows`: the caller will run again as soon as this returns.
   void run(Job job, void* ctx, int chunks, bool another_follows = false);
+  // A run follows within `within` (at most kMaxExpectNs): the workers wake now and poll for it
+  // until then (and a moment after) instead of sleeping. Publishes nothing to claim: a run already
+  // under way, or none at all, is unaffected. Called by the thread that calls run().
+  static constexpr std::int64_t kMaxExpectNs = 10'000'000;
+  void expect_run(std::int64_t within_ns);
   // The workers' native handles (k = 1 .. size - 1), so that a caller can place them (rigidd keeps
   // them off the CPU its real-time loop is pinned to).
   const std::vector<std::thread::native_handle_type>& worker_handles() const { return handles_; }
@@ -59,7 +71,9 @@ class Pool {
   Job job_ = nullptr;
   void* ctx_ = nullptr;
   std::atomic<bool> stop_{false};
-  std::atomic<bool> another_follows_{false};
+  // How long a worker polls for the next generation before it sleeps, in microseconds: set by the
+  // caller before it publishes a generation (a run or an expect_run), read by the workers after.
+  std::atomic<std::int64_t> poll_us_{0};
   // Each on a cache line of its own. claim_: bits 32-63 the run's generation, 16-31 the next
   // chunk, 0-15 the chunk count. A worker woken late for an old run sees a newer generation here
   // and claims nothing of it under the old one's number.

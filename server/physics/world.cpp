@@ -850,6 +850,13 @@ void World::Impl::step(bool another_follows) {
 void World::set_threads(int n) {
   impl_->set_threads(n);
 }
+void World::expect_step(std::int64_t within_ns) {
+  const Impl& w = *impl_;
+  const int bodies = static_cast<int>(w.slot.size());
+  // The same test as step(): a world stepped on the calling thread alone has no one to wake.
+  if (w.pool.pool && std::min(w.threads, bodies / kMinBodiesPerThread) > 1)
+    w.pool.pool->expect_run(within_ns);
+}
 int World::threads() const {
   return impl_->threads;
 }

@@ -98,6 +98,11 @@ class World {
   // for a caller that places threads on CPUs. Empty for one thread. set_threads and copies make
   // new workers: ask again after either.
   std::span<const std::thread::native_handle_type> worker_threads() const;
+  // The next step() comes within `within_ns` (a real-time caller that knows its next deadline):
+  // the pool's workers wake now and wait for it polling, so that the step does not wait for
+  // their wake-up (Pool::expect_run). Nothing to do on one thread or for a world too small to be
+  // split. Changes no state.
+  void expect_step(std::int64_t within_ns);
 
   double dt() const;
   double time() const;

@@ -66,6 +66,8 @@ void drive(World& w, int steps) {
         w.add_force(i, {1, 0, 0}, {0, 0.2, 0}, Frame::kWorld);
     }
     if (k % 25 == 7) w.apply_impulse(k % w.body_count(), {0, 0, 0.1}, {0.1, 0, 0}, Frame::kBody);
+    // As rigidd's loop does before a tick: the workers wake ahead of the step (no state changes).
+    if (k % 3 == 1) w.expect_step(50'000);
     w.step();
   }
 }
@@ -109,7 +111,9 @@ TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
 
 // The pool behind World::step: every chunk of every run is run exactly once and all of them are
 // done when run() returns, whether the workers poll between runs or sleep and wake late (the
-// caller may then have claimed a whole run alone and published the next one before they look).
+// caller may then have claimed a whole run alone and published the next one before they look),
+// and whether the caller said a run was coming (expect_run: the workers wake and poll for it) in
+// time, too late, or for a run that came after the workers had given up polling.
 TEST(Pool, RunsEveryChunkOnceAndAllBeforeReturning) {
   struct Ctx {
     std::array<std::atomic<int>, 64> calls{};
@@ -122,6 +126,11 @@ TEST(Pool, RunsEveryChunkOnceAndAllBeforeReturning) {
       for (auto& c : ctx.calls)
         c.store(0, std::memory_order_relaxed);
       ctx.slow.store(run % 5 == 0 ? run % chunks : -1, std::memory_order_relaxed);
+      if (run % 6 == 2) pool.expect_run((run % 4) * 50'000);
+      if (run % 11 == 5) {  // announced, then late: the workers poll 20 us and sleep
+        pool.expect_run(0);
+        std::this_thread::sleep_for(std::chrono::microseconds(60));
+      }
       pool.run(
           [](void* p, int c) {
             Ctx& x = *static_cast<Ctx*>(p);
