@@ -395,12 +395,15 @@ void Loop::publish_state(bool paced) {
   if (paced) wait_for_publishers();
   const std::int64_t tick = driven_.tick();
   fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame_);
-  output_.offer_state(frame_, first_arrival_ns_);
-  if (config_.hash_states && tick != hashed_tick_) {
+  // The hash before the hand-over, which may leave frame_ with another state's values.
+  const bool hash = config_.hash_states && tick != hashed_tick_;
+  const std::uint64_t h = hash ? state_hash(frame_) : 0;
+  output_.hand_over_state(frame_, first_arrival_ns_);
+  if (hash) {
     JournalEntry entry;
     entry.kind = JournalEntry::Kind::kStateHash;
     entry.tick = tick;
-    entry.hash = state_hash(frame_);
+    entry.hash = h;
     output_.journal(entry);
     hashed_tick_ = tick;
   }

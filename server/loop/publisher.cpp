@@ -66,8 +66,17 @@ void Publisher::wake() {
 }
 
 void Publisher::offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
+  states_.back().frame = frame;
+  publish_back(command_arrival_ns);
+}
+
+void Publisher::hand_over(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
+  std::swap(states_.back().frame, frame);  // swaps the vectors' buffers: no copy, no allocation
+  publish_back(command_arrival_ns);
+}
+
+void Publisher::publish_back(std::int64_t command_arrival_ns) {
   Snapshot& back = states_.back();
-  back.frame = frame;
   // A command whose state was skipped first shows in this one.
   back.command_arrival_ns = command_arrival_ns == 0 || (carried_arrival_ns_ != 0 &&
                                                         carried_arrival_ns_ < command_arrival_ns)

@@ -39,6 +39,10 @@ class Publisher {
   // Loop thread: a new state (copied; allocation-free once the buffers have the frame's shape).
   // command_arrival_ns: see LoopOutput::offer_state.
   void offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns = 0);
+  // Loop thread: the same, by swapping `frame` with the buffer it would be copied into: `frame`
+  // comes back with the shape this publisher was made with and stale values. It must have that
+  // shape too (the loop's frames all do).
+  void hand_over(rigid::StateFrame& frame, std::int64_t command_arrival_ns = 0);
   // Loop thread: waits until the publisher has taken the last state offered (it is being sent or
   // was sent) or until `deadline_ns` (CLOCK_MONOTONIC); true if taken. Allocates nothing.
   bool wait_taken(std::int64_t deadline_ns);
@@ -56,6 +60,8 @@ class Publisher {
   void run();
   void wake();
   void send_replies();
+  // offer and hand_over once the back buffer holds the new frame.
+  void publish_back(std::int64_t command_arrival_ns);
 
   transport::Transport& transport_;
   Log& log_;

@@ -264,6 +264,13 @@ void Server::offer_state(const rigid::StateFrame& frame, std::int64_t command_ar
     p->offer(frame, command_arrival_ns);
 }
 
+void Server::hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
+  if (publishers_.empty()) return;
+  for (std::size_t k = 0; k + 1 < publishers_.size(); ++k)
+    publishers_[k]->offer(frame, command_arrival_ns);
+  publishers_.back()->hand_over(frame, command_arrival_ns);
+}
+
 bool Server::wait_states_taken(std::int64_t deadline_ns) {
   for (auto& p : publishers_)
     if (!p->wait_taken(deadline_ns)) return false;

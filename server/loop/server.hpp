@@ -93,6 +93,8 @@ class Server final : private LoopOutput {
 
  private:
   void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
+  // Copies the frame to every bus but the last, which takes it.
+  void hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
   bool wait_states_taken(std::int64_t deadline_ns) override;
   void reply(const Reply& reply) override;
   void journal(const JournalEntry& entry) override { journal_->push(entry); }

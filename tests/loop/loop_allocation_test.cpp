@@ -96,6 +96,12 @@ class PublishingRecorder : public testing::Recorder {
     b_.offer(f, arrival_ns);
     Recorder::offer_state(f, arrival_ns);
   }
+  // As the server: copied to the first bus, swapped into the last.
+  void hand_over_state(rigid::StateFrame& f, std::int64_t arrival_ns) override {
+    Recorder::offer_state(f, arrival_ns);
+    a_.offer(f, arrival_ns);
+    b_.hand_over(f, arrival_ns);
+  }
   void reply(const Reply& r) override {
     a_.reply(r);
     Recorder::reply(r);
