@@ -1,6 +1,8 @@
 // Publisher: states handed over by swapping buffers (Publisher::hand_over, what rigidd's loop does
 // for its last bus) reach the bus whole and in order, interleaved with copied offers, while the
 // loop keeps refilling the frame it got back.
+#include "loop/publisher.hpp"
+
 #include <gtest/gtest.h>
 
 #include <mutex>
@@ -8,7 +10,6 @@
 #include <vector>
 
 #include "loop/log.hpp"
-#include "loop/publisher.hpp"
 #include "transport/transport.hpp"
 
 namespace rigid::loop {
