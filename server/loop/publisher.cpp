@@ -133,6 +133,9 @@ void Publisher::send_replies() {
 void Publisher::run() {
   for (;;) {
     const std::uint32_t seen = work_.load(std::memory_order_acquire);
+    // Read before the take: a stop requested after the last offer then still sends that state
+    // (read after, a state offered while the previous one was being sent was dropped at exit).
+    const bool stopping = stop_.load(std::memory_order_acquire);
     // The state first: a client that gets a step's reply finds its state already sent.
     if (Snapshot* snapshot = states_.take()) {
       taken_.ring();  // a loop waiting to hand over the next state may go on
@@ -149,7 +152,7 @@ void Publisher::run() {
       }
     }
     send_replies();
-    if (stop_.load(std::memory_order_acquire)) return;
+    if (stopping) return;
     work_.wait(seen, std::memory_order_acquire);
   }
 }
