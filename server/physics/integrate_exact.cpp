@@ -68,13 +68,17 @@ inline void drift_cached(AxiGroup& g, int i, double h) {
 }
 inline void drift_cached(GenGroup& g, int i, double h) {
   Motion& b = g.motion[i];
+  RotorPlan plan;
   if (!g.plan_ok[i]) {
-    make_rotor_plan(g.rotor_of(i), b.spin, h, g.plan[i]);
+    make_rotor_plan(g.rotor_of(i), b.spin, h, plan);
+    g.plan.set(i, plan);
     g.plan_ok[i] = 1;
     g.axis[i] = Quat(0.0, 0.0, 0.0, 0.0);
+  } else {
+    plan = g.plan.get(i);
   }
   Quat dq;
-  advance_rotor(g.plan[i], b.spin, dq, RotorUpdate::kPinned, &g.axis[i]);
+  advance_rotor(plan, b.spin, dq, RotorUpdate::kPinned, &g.axis[i]);
   b.q = b.q * dq;
   renormalize(b.q);
 }
@@ -110,36 +114,36 @@ void exact_quiet(G& g, const Model& m, Range r) {
   }
 }
 
-// exact_quiet for general bodies, their rotation several at once (rotor_lanes.hpp): the bodies
-// whose cached plan can step in a batch fill batches of m.lanes; the others (a plan to make, a
-// still body, a long step) take the scalar path. Both give the same bits, so the route a body
-// takes depends on nothing but its own plan.
+// exact_quiet for general bodies, their rotation eight at once (rotor_lanes.hpp): a block of
+// eight entries (rotor_plans.hpp) inside the range whose cached plans can all step in the kernel
+// is stepped from its block; the others (a plan to make, a still body, a long step, a block cut
+// by the range's ends) take the scalar path. Both give the same bits, so the route a body takes
+// depends on nothing but its own plan and place. The translation does not depend on the rotation
+// of a body with nothing turning it: each body's is done first, as in exact_quiet.
 void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
   const int width = m.lanes;
   if (width == 1) return exact_quiet(g, m, r);
-  RotorBatch b;
-  int idx[RotorBatch::kMax];
-  int n = 0;
-  const auto flush = [&] {
-    for (int l = n; l < width; ++l)
-      rotor_gather(g, idx[0], l, b);  // padding, not written back
-    rotor_step_lanes(width, b);
-    for (int l = 0; l < n; ++l)
-      rotor_scatter(b, l, g, idx[l]);
-    n = 0;
-  };
-  for (int i = r.begin; i < r.end; ++i) {
-    Motion& mo = g.motion[i];
-    translate(m.tc(g.linear[i], kFull), g.linear[i].accel(g.loads[i].f_W), mo.x, mo.v);
-    if (!rotor_lane_ready(g, i)) {
-      drift_cached(g, i, m.dt);
-      continue;
+  constexpr int kBlock = RotorPlans::kBlock;
+  RotorStateLanes st;
+  for (int i = r.begin; i < r.end;) {
+    bool whole = i % kBlock == 0 && i + kBlock <= r.end;
+    for (int l = 0; whole && l < kBlock; ++l)
+      whole = rotor_lane_ready(g, i + l);
+    const int n = whole ? kBlock : 1;
+    for (int l = 0; l < n; ++l) {
+      Motion& mo = g.motion[i + l];
+      const Linear& lin = g.linear[i + l];
+      translate(m.tc(lin, kFull), lin.accel(g.loads[i + l].f_W), mo.x, mo.v);
     }
-    rotor_gather(g, i, n, b);
-    idx[n++] = i;
-    if (n == width) flush();
+    if (whole) {
+      rotor_gather_block(g, i / kBlock, st);
+      rotor_step_lanes(width, st, g.plan.lanes(i / kBlock));
+      rotor_scatter_block(st, i / kBlock, g);
+    } else {
+      drift_cached(g, i, m.dt);
+    }
+    i += n;
   }
-  if (n > 0) flush();
 }
 
 // The composition of kick-drift-kick stages S(c_k h), k = 1..n, for one body, with the stage's

@@ -17,6 +17,7 @@
 
 #include "physics/free_rotor.hpp"
 #include "physics/loads.hpp"
+#include "physics/rotor_plans.hpp"
 #include "physics/translation.hpp"
 
 namespace rigid::physics::detail {
@@ -183,7 +184,7 @@ struct GenGroup : Group {
   std::vector<std::int32_t> rotor;
   std::vector<RotorInertia> rotors;
   const RotorInertia& rotor_of(int i) const { return rotors[rotor[i]]; }
-  std::vector<RotorPlan> plan;
+  RotorPlans plan;  // structure of arrays, as the lanes kernel reads them (rotor_plans.hpp)
   std::vector<std::uint8_t> plan_ok;
   // The last step's end-of-step frame quaternion, the next step's start: see advance_rotor.
   std::vector<Quat> axis;

@@ -13,40 +13,49 @@
 
 namespace rigid::physics::detail {
 
-// Up to 8 bodies' rotation state and rotor plans, component-major.
-struct alignas(64) RotorBatch {
+// Eight plans' fields as the kernel reads them, component-major: RotorPlan's case as a lane mask
+// (-1: case b), its phase constants and amplitudes, and the psi integral's quadrature; node[i] is
+// -1 where the plan has more than i nodes. k2 is RotorPlan::m.
+struct alignas(64) RotorPlanLanes {
   static constexpr int kMax = 8;
   static constexpr int kNodes = 4;  // RotorPlan's quadrature nodes at most
   using L = double[kMax];
-  // State: q_WP, h_P, and the carried end-of-step axis frame (GenGroup::axis).
-  L qw, qx, qy, qz;
-  L m[3];
-  L aw, ax, ay, az;
-  // The plan (RotorPlan, free_rotor.hpp): its case, phase constants and amplitudes, and the
-  // quadrature of the psi integral; node[i] is -1 where the plan has more than i nodes.
   std::int64_t case_b[kMax];
   L s, ia, ib, cn_bias, k2, mc, cG, mS2, C, D, S, mSC, a, b, c, lin, abG2, G;
   std::int64_t node[kNodes][kMax];
   L w[kNodes], Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
 
+// Eight bodies' rotation state, component-major: q_WP, h_P, and the carried end-of-step axis
+// frame (GenGroup::axis).
+struct alignas(64) RotorStateLanes {
+  static constexpr int kMax = RotorPlanLanes::kMax;
+  using L = double[kMax];
+  L qw, qx, qy, qz;
+  L m[3];
+  L aw, ax, ay, az;
+};
+
+// Lanes [off, off + width) of the state and the plans (width: the kernel's). The plans are
+// read where they are stored (GenGroup::plan, rotor_plans.hpp).
 namespace lanes8 {
-void rotor_step(RotorBatch& b);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
 }
 namespace lanes4 {
-void rotor_step(RotorBatch& b);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
 }
 namespace lanes2 {
-void rotor_step(RotorBatch& b);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
 }
 
 struct GenGroup;
-// Whether entry i's cached plan can step in a batch (made, not still, a short step with nodes).
+// Whether entry i's cached plan is valid and can step in the kernel (made, not still, a short
+// step with nodes).
 bool rotor_lane_ready(const GenGroup& g, int i);
-// Entry i into lane l, and back.
-void rotor_gather(const GenGroup& g, int i, int l, RotorBatch& b);
-void rotor_scatter(const RotorBatch& b, int l, GenGroup& g, int i);
-// The kernel of `width` lanes (8, 4 or 2) on the first `width` lanes of b.
-void rotor_step_lanes(int width, RotorBatch& b);
+// Block k of g (entries 8k .. 8k + 7) into the state lanes, and back.
+void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st);
+void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g);
+// All eight lanes, by the kernel of `width` lanes (8, 4 or 2).
+void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p);
 
 }  // namespace rigid::physics::detail

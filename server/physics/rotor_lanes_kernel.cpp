@@ -12,7 +12,7 @@ namespace rigid::physics::detail::RIGID_LANE_NS {
 
 namespace {
 
-static_assert(W <= RotorBatch::kMax);
+static_assert(RotorPlanLanes::kMax % W == 0);
 
 // Eigen's quaternion product a b as its SSE2 path computes it (Geometry_SIMD.h, quat_product for
 // double): the terms paired as there.
@@ -54,14 +54,17 @@ inline V inv_sqrt(V x) {
 
 }  // namespace
 
-void rotor_step(RotorBatch& b) {
-  const Mask case_b = load_mask(b.case_b);
-  const V s = load(b.s), ia = load(b.ia), ib = load(b.ib), cn_bias = load(b.cn_bias);
-  const V k2 = load(b.k2), mc = load(b.mc), cG = load(b.cG), mS2 = load(b.mS2);
-  const V C = load(b.C), D = load(b.D), S = load(b.S), mSC = load(b.mSC);
-  const V a = load(b.a), bb = load(b.b), c = load(b.c), lin = load(b.lin), abG2 = load(b.abG2);
-  const V G = load(b.G);
-  const V3 m = load3(b.m);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off) {
+  const Mask case_b = load_mask(p.case_b + off);
+  const V s = load(p.s + off), ia = load(p.ia + off), ib = load(p.ib + off),
+          cn_bias = load(p.cn_bias + off);
+  const V k2 = load(p.k2 + off), mc = load(p.mc + off), cG = load(p.cG + off),
+          mS2 = load(p.mS2 + off);
+  const V C = load(p.C + off), D = load(p.D + off), S = load(p.S + off), mSC = load(p.mSC + off);
+  const V a = load(p.a + off), bb = load(p.b + off), c = load(p.c + off), lin = load(p.lin + off),
+          abG2 = load(p.abG2 + off);
+  const V G = load(p.G + off);
+  const V3 m = V3{load(st.m[0] + off), load(st.m[1] + off), load(st.m[2] + off)};
 
   // case_coords
   const V x1 = select(case_b, m.z, m.x), x2 = select(case_b, -m.y, m.y);
@@ -88,12 +91,12 @@ void rotor_step(RotorBatch& b) {
   // The psi integral's nodes by the addition theorem, summed as one fraction.
   V top = splat(0.0), bottom = splat(1.0);
   const V sc0 = s0 * c0, ss0 = s0 * s0;
-  for (int i = 0; i < RotorBatch::kNodes; ++i) {
-    const Mask on = load_mask(b.node[i]);
+  for (int i = 0; i < RotorPlanLanes::kNodes; ++i) {
+    const Mask on = load_mask(p.node[i] + off);
     if (!any(on)) break;
-    const V num = d0 * load(b.Dn[i]) - load(b.mSCn[i]) * sc0;
-    const V den = (1.0 - load(b.mS2n[i]) * ss0) + cG * num;
-    top = select(on, top * den + load(b.w[i]) * num * bottom, top);
+    const V num = d0 * load(p.Dn[i] + off) - load(p.mSCn[i] + off) * sc0;
+    const V den = (1.0 - load(p.mS2n[i] + off) * ss0) + cG * num;
+    top = select(on, top * den + load(p.w[i] + off) * num * bottom, top);
     bottom = select(on, bottom * den, bottom);
   }
   const V integral = top / bottom;
@@ -111,7 +114,7 @@ void rotor_step(RotorBatch& b) {
   cos_sinc(0.5 * dpsi, cz, sincz);
   const V sz = 0.5 * dpsi * sincz;
   const V w1 = G + s * y3;
-  Q p0{load(b.aw), load(b.ax), load(b.ay), load(b.az)};
+  Q p0{load(st.aw + off), load(st.ax + off), load(st.ay + off), load(st.az + off)};
   if (const Mask rebuild = ~(p0.w > 0.0); any(rebuild)) {
     const V w0 = G + c * d0;
     const V n0 = inv_sqrt(2.0 * G * w0);
@@ -123,23 +126,25 @@ void rotor_step(RotorBatch& b) {
   const Q p1{w1 * n1, s * y2 * n1, -s * y1 * n1, splat(0.0)};
   const Q u{cz * p1.w, cz * p1.x - sz * p1.y, cz * p1.y + sz * p1.x, sz * p1.w};
   const Q d = mul_eigen(conj(p0), u);
-  store(b.aw, p1.w);
-  store(b.ax, p1.x);
-  store(b.ay, p1.y);
-  store(b.az, p1.z);
+  store(st.aw + off, p1.w);
+  store(st.ax + off, p1.x);
+  store(st.ay + off, p1.y);
+  store(st.az + off, p1.z);
   // Back from case coordinates.
   const V3 m1{select(case_b, y3, y1), select(case_b, -y2, y2), select(case_b, y1, y3)};
   const Q dq{d.w, select(case_b, d.z, d.x), select(case_b, -d.y, d.y), select(case_b, d.x, d.z)};
-  store3(b.m, m1);
+  store(st.m[0] + off, m1.x);
+  store(st.m[1] + off, m1.y);
+  store(st.m[2] + off, m1.z);
 
   // drift_cached: q <- q dq, renormalised.
-  Q q{load(b.qw), load(b.qx), load(b.qy), load(b.qz)};
+  Q q{load(st.qw + off), load(st.qx + off), load(st.qy + off), load(st.qz + off)};
   q = mul_eigen(q, dq);
   renormalize_eigen(q);
-  store(b.qw, q.w);
-  store(b.qx, q.x);
-  store(b.qy, q.y);
-  store(b.qz, q.z);
+  store(st.qw + off, q.w);
+  store(st.qx + off, q.x);
+  store(st.qy + off, q.y);
+  store(st.qz + off, q.z);
 }
 
 }  // namespace rigid::physics::detail::RIGID_LANE_NS

@@ -420,7 +420,7 @@ void World::Impl::compile() {
           if (added) model.gen.rotors.emplace_back(diag.I);
           model.gen.rotor.push_back(it->second);
         }
-        model.gen.plan.emplace_back();
+        model.gen.plan.push_back();
         model.gen.plan_ok.push_back(0);
         model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
         model.gen.q_BP.push_back(q_BP);
@@ -521,7 +521,8 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
       sw(model.axi.rot), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
       break;
     case BodyModel::kGeneral:
-      sw(model.gen.rot), sw(model.gen.rotor), sw(model.gen.plan), sw(model.gen.plan_ok);
+      sw(model.gen.rot), sw(model.gen.rotor), sw(model.gen.plan_ok);
+      model.gen.plan.swap(a, b);
       sw(model.gen.axis), sw(model.gen.q_BP);
       break;
   }
@@ -566,6 +567,18 @@ detail::Range slice(int b, int e, int k, int used) {
   const long n = e - b;
   return {b + static_cast<int>(n * k / used), b + static_cast<int>(n * (k + 1) / used)};
 }
+// The same with the inner ends rounded down to a multiple of `align`: the quiet general bodies
+// step eight at a time in blocks of eight entries (rotor_plans.hpp), and a block cut by a slice's
+// end would step its bodies one at a time.
+detail::Range aligned_slice(int b, int e, int k, int used, int align) {
+  const auto end_of = [&](int j) {
+    if (j == 0) return b;
+    if (j == used) return e;
+    const int x = b + static_cast<int>(static_cast<long>(e - b) * j / used);
+    return std::max(b, x - x % align);
+  };
+  return {end_of(k), end_of(k + 1)};
+}
 }  // namespace
 
 void World::Impl::plan_shares(int parts) {
@@ -576,7 +589,7 @@ void World::Impl::plan_shares(int parts) {
     for (int gi = 0; gi < 4; ++gi) {
       const int n = gs[gi]->size(), q = gs[gi]->quiet_end;
       sh.all[gi] = slice(0, n, k, parts);
-      sh.run[gi][0] = slice(0, q, k, parts);
+      sh.run[gi][0] = aligned_slice(0, q, k, parts, detail::RotorPlans::kBlock);
       sh.run[gi][1] = slice(q, n, k, parts);
     }
   }

@@ -6,12 +6,16 @@
 // loaded ones to its round-off.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
 
 #include "physics/hybrid_lanes.hpp"
+#include "physics/rotor_plans.hpp"
 #include "test_util.hpp"
 
 namespace rigid::test {
@@ -168,6 +172,76 @@ TEST(Lanes, LoadedBodiesMatchTheScalarCompositionToRoundOff) {
         << "body " << i;
     EXPECT_LT((lanes[i].p_WBo - scalar[i].p_WBo).norm(), 1e-11) << "body " << i;
   }
+}
+
+// The general bodies' plans are stored eight to a block, field by field (rotor_plans.hpp): what is
+// set comes back bit for bit, a swap exchanges two entries whole, the kernel's view of a block
+// holds each entry's fields in its lane, and lane_ready says which plans the kernel may step.
+// Plans of every kind: both cases, short steps (quadrature nodes) and long ones (closed form and
+// panels), a still body.
+TEST(RotorPlans, StoreEveryPlanBitForBit) {
+  using physics::RotorPlan;
+  using physics::detail::RotorPlans;
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  const auto same = [&](const RotorPlan& x, const RotorPlan& y) {
+    bool ok = x.still == y.still && x.case_b == y.case_b && x.n == y.n && x.closed == y.closed;
+    for (auto [u, v] : {std::pair{x.s, y.s}, {x.a, y.a},     {x.b, y.b},     {x.c, y.c},
+                        {x.ia, y.ia},        {x.ib, y.ib},   {x.ic, y.ic},   {x.cn_bias, y.cn_bias},
+                        {x.m, y.m},          {x.mc, y.mc},   {x.G, y.G},     {x.lin, y.lin},
+                        {x.abG2, y.abG2},    {x.cG, y.cG},   {x.S, y.S},     {x.C, y.C},
+                        {x.D, y.D},          {x.mS2, y.mS2}, {x.mSC, y.mSC}, {x.Cm1, y.Cm1},
+                        {x.Dm1, y.Dm1},      {x.X, y.X},     {x.q, y.q},     {x.isr, y.isr},
+                        {x.sq, y.sq},        {x.qm3, y.qm3}, {x.K, y.K},     {x.Jc, y.Jc}})
+      ok = ok && bits(u) == bits(v);
+    for (int k = 0; k < 4; ++k)
+      ok = ok && bits(x.w[k]) == bits(y.w[k]) && bits(x.Dn[k]) == bits(y.Dn[k]) &&
+           bits(x.mS2n[k]) == bits(y.mS2n[k]) && bits(x.mSCn[k]) == bits(y.mSCn[k]);
+    return ok;
+  };
+  const physics::RotorInertia J(Vec3(1.0, 2.0, 3.0));
+  std::vector<RotorPlan> made;
+  for (int i = 0; i < 29; ++i) {
+    // Momenta about each axis (case a and b), near the separatrix, and zero; steps from 1 ms to
+    // 30 s (long steps: no nodes).
+    const Vec3 m = i == 7 ? Vec3::Zero()
+                          : Vec3(0.3 + 0.1 * (i % 3), (i % 2 ? 5.0 : 0.2) + 0.01 * i,
+                                 (i % 2 ? 0.1 : 4.0) - 0.003 * i);
+    const double h = i % 4 == 3 ? 30.0 : 1e-3 * (1 + i % 5);
+    RotorPlan p;
+    physics::make_rotor_plan(J, m, h, p);
+    made.push_back(p);
+  }
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.case_b; }));
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return !p.case_b; }));
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n == 0 && !p.still; }));
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.still; }));
+
+  RotorPlans store;
+  for (std::size_t i = 0; i < made.size(); ++i)
+    store.push_back();
+  ASSERT_EQ(store.size(), static_cast<int>(made.size()));
+  for (std::size_t i = 0; i < made.size(); ++i)
+    store.set(static_cast<int>(i), made[i]);
+  for (std::size_t i = 0; i < made.size(); ++i) {
+    const int k = static_cast<int>(i);
+    EXPECT_TRUE(same(store.get(k), made[i])) << "entry " << i;
+    EXPECT_EQ(store.lane_ready(k), !made[i].still && made[i].n > 0) << "entry " << i;
+    const auto& L = store.lanes(k / RotorPlans::kBlock);
+    const int l = k % RotorPlans::kBlock;
+    EXPECT_EQ(L.case_b[l], made[i].case_b ? -1 : 0);
+    EXPECT_EQ(bits(L.k2[l]), bits(made[i].m));
+    EXPECT_EQ(bits(L.cG[l]), bits(made[i].cG));
+    EXPECT_EQ(bits(L.mSCn[3][l]), bits(made[i].mSCn[3]));
+    for (int n = 0; n < 4; ++n)
+      EXPECT_EQ(L.node[n][l], n < made[i].n ? -1 : 0);
+  }
+  // Across blocks and within one.
+  for (auto [a, b] : {std::pair{3, 20}, {0, 1}, {28, 8}}) {
+    store.swap(a, b);
+    std::swap(made[static_cast<std::size_t>(a)], made[static_cast<std::size_t>(b)]);
+  }
+  for (std::size_t i = 0; i < made.size(); ++i)
+    EXPECT_TRUE(same(store.get(static_cast<int>(i)), made[i])) << "after swaps, entry " << i;
 }
 
 }  // namespace

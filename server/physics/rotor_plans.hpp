@@ -1,0 +1,53 @@
+// The cached free-rotor plans of the general bodies (RotorPlan, free_rotor.hpp), stored the way
+// the lanes kernel reads them: eight entries to a block, each field of the eight side by side
+// (structure of arrays). A block of eight quiet bodies whose plans are ready is stepped straight
+// from its block (rotor_lanes.hpp); before, every step copied ~45 fields of each body's plan
+// into a batch one lane at a time, which cost the quiet general body about a quarter of its step
+// (perf record on step_bench's racket case: the copy 23%, the kernel 42%). The fields only the
+// scalar code reads (long steps, the flags) sit in the same block. get and set copy one entry's
+// plan out and in, exactly: the scalar code, which makes plans and steps the rest, sees the same
+// RotorPlan it stored.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "physics/free_rotor.hpp"
+#include "physics/rotor_lanes.hpp"
+
+namespace rigid::physics::detail {
+
+class RotorPlans {
+ public:
+  static constexpr int kBlock = RotorPlanLanes::kMax;
+  int size() const { return size_; }
+  // Appends a default RotorPlan.
+  void push_back();
+  RotorPlan get(int i) const;
+  void set(int i, const RotorPlan& p);
+  void swap(int i, int j);
+  // Whether entry i's plan can step in the lanes kernel: something moves and the step is short
+  // (its quadrature nodes are cached). Says nothing of whether the plan is still valid.
+  bool lane_ready(int i) const {
+    const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
+    const int l = i % kBlock;
+    return b.still[l] == 0 && b.n[l] > 0;
+  }
+  const RotorPlanLanes& lanes(int block) const {
+    return blocks_[static_cast<std::size_t>(block)].lanes;
+  }
+
+ private:
+  struct Block {
+    RotorPlanLanes lanes;
+    // What only the scalar code reads.
+    double ic[kBlock], Cm1[kBlock], Dm1[kBlock], X[kBlock];
+    double q[kBlock], isr[kBlock], sq[kBlock], qm3[kBlock], K[kBlock], Jc[kBlock];
+    std::int32_t n[kBlock];
+    std::uint8_t still[kBlock], closed[kBlock];
+  };
+  std::vector<Block> blocks_;
+  int size_ = 0;
+};
+
+}  // namespace rigid::physics::detail
