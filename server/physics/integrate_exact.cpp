@@ -136,6 +136,7 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
       translate(m.tc(lin, kFull), lin.accel(g.loads[i + l].f_W), mo.x, mo.v);
     }
     if (whole) {
+      g.plan.prefetch(i / kBlock + 2);
       rotor_gather_block(g, i / kBlock, st);
       rotor_step_lanes(width, st, g.plan.lanes(i / kBlock));
       rotor_scatter_block(st, i / kBlock, g);

@@ -9,6 +9,7 @@
 // RotorPlan it stored.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,16 @@ class RotorPlans {
     const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
     const int l = i % kBlock;
     return b.still[l] == 0 && b.n[l] > 0;
+  }
+  // Asks the CPU to bring block k's kernel fields into the cache (a hint; nothing if k is past
+  // the end): the kernel reads them in its own order, not the memory's, which the hardware
+  // prefetcher does not follow.
+  void prefetch(int block) const {
+    if (block >= static_cast<int>(blocks_.size())) return;
+    const char* p = reinterpret_cast<const char*>(&blocks_[static_cast<std::size_t>(block)]);
+    for (std::size_t k = 0; k < sizeof(RotorPlanLanes); k += 64)
+      __builtin_prefetch(p + k);
+    __builtin_prefetch(p + offsetof(Block, n));
   }
   const RotorPlanLanes& lanes(int block) const {
     return blocks_[static_cast<std::size_t>(block)].lanes;
