@@ -65,23 +65,6 @@ using rigid::Mode;
 using testing::Harness;
 using testing::make_scene;
 
-// A bus that accepts everything (the publisher thread may allocate; only the loop thread counts).
-class NullTransport final : public transport::Transport {
- public:
-  rigid::Bus bus() const override { return rigid::Bus::kDds; }
-  transport::Role role() const override { return transport::Role::kServer; }
-  transport::PublishResult publish(const rigid::StateFrame&) override { return ok(); }
-  transport::PublishResult publish(const rigid::StatsReport&) override { return ok(); }
-  transport::PublishResult publish(const rigid::SceneDescription&) override { return ok(); }
-  transport::PublishResult publish(const rigid::ControlReply&) override { return ok(); }
-  transport::PublishResult publish(const rigid::WrenchCommand&) override { return ok(); }
-  transport::PublishResult publish(const rigid::ControlCommand&) override { return ok(); }
-  rigid::TransportCounts counts() const override { return {}; }
-
- private:
-  static transport::PublishResult ok() { return transport::PublishResult::kOk; }
-};
-
 // What the server's output does: every state to every publisher, replies to the bus's publisher,
 // journal entries to the journal (when there is one, as with rigidd --journal).
 class PublishingRecorder : public testing::Recorder {
@@ -183,7 +166,7 @@ struct Rig {
     push(c);
   }
 
-  NullTransport bus_a, bus_b;
+  testing::NullTransport bus_a, bus_b;
   MemoryLog log;
   rigid::StateFrame shape;
   Publisher a, b;

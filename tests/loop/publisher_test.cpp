@@ -10,32 +10,23 @@
 #include <vector>
 
 #include "loop/log.hpp"
-#include "transport/transport.hpp"
+#include "loop_harness.hpp"
 
 namespace rigid::loop {
 namespace {
 
-class RecordingTransport final : public transport::Transport {
+// Keeps every state it is given.
+class RecordingTransport final : public testing::NullTransport {
  public:
-  rigid::Bus bus() const override { return rigid::Bus::kLcm; }
-  transport::Role role() const override { return transport::Role::kServer; }
+  using NullTransport::publish;
   transport::PublishResult publish(const rigid::StateFrame& s) override {
     const std::lock_guard lock(mutex);
     states.push_back(s);
-    return transport::PublishResult::kOk;
+    return ok();
   }
-  transport::PublishResult publish(const rigid::StatsReport&) override { return ok(); }
-  transport::PublishResult publish(const rigid::SceneDescription&) override { return ok(); }
-  transport::PublishResult publish(const rigid::ControlReply&) override { return ok(); }
-  transport::PublishResult publish(const rigid::WrenchCommand&) override { return ok(); }
-  transport::PublishResult publish(const rigid::ControlCommand&) override { return ok(); }
-  rigid::TransportCounts counts() const override { return {}; }
 
   std::mutex mutex;
   std::vector<rigid::StateFrame> states;
-
- private:
-  static transport::PublishResult ok() { return transport::PublishResult::kOk; }
 };
 
 class NullLog final : public Log {
