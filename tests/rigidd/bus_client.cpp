@@ -84,8 +84,10 @@ std::optional<rigid::ControlReply> BusClient::handshake(rigid::ControlCommand co
 }
 
 std::optional<rigid::ControlReply> BusClient::request(rigid::ControlCommand control,
-                                                      std::chrono::milliseconds patience) {
+                                                      std::chrono::milliseconds patience,
+                                                      std::int64_t* seq_used) {
   const std::int64_t seq = send(control);
+  if (seq_used != nullptr) *seq_used = seq;
   std::optional<rigid::ControlReply> answer;
   wait(
       [&] {

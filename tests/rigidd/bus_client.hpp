@@ -45,9 +45,10 @@ class BusClient final : public transport::Receiver {
   // that appear later). Returns the answer, or nothing after `patience`.
   std::optional<rigid::ControlReply> handshake(rigid::ControlCommand control,
                                                std::chrono::milliseconds patience);
-  // Sends once and waits for the reply to that seq.
+  // Sends once and waits for the reply to that seq (written to *seq when given).
   std::optional<rigid::ControlReply> request(rigid::ControlCommand control,
-                                             std::chrono::milliseconds patience);
+                                             std::chrono::milliseconds patience,
+                                             std::int64_t* seq = nullptr);
 
   // Waits until pred() holds (called with the client's data locked), at most `patience`.
   bool wait(const std::function<bool()>& pred, std::chrono::milliseconds patience);
