@@ -26,12 +26,14 @@ std::string unique_prefix(const std::string& tag) {
   return tag + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
-BusClient::BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url)
+BusClient::BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url,
+                     int state_history)
     : bus_(bus), source_(static_cast<std::int64_t>(::getpid()) * 1000 + g_clients++) {
   if (bus == rigid::Bus::kDds) {
     transport::dds::Options o;
     o.role = transport::Role::kClient;
     o.prefix = prefix;
+    o.state_history = state_history;
     transport_ = transport::dds::make_transport(o, *this);
   } else {
     transport::lcm::Options o;

@@ -27,7 +27,11 @@ class BusClient final : public transport::Receiver {
   // Throws transport::TransportError when the bus cannot be set up (the test then fails with
   // what to run: scripts/net-setup).
   // `lcm_url`: empty for the default group and port (with a 4 MiB receive buffer).
-  BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url = "");
+  // `state_history`: DDS only, the unread states the client's reader keeps (rigid's default
+  // 256; a test of rigidd's pacing takes more, so that its own stalls under a loaded suite are
+  // not counted against rigidd).
+  BusClient(rigid::Bus bus, const std::string& prefix, const std::string& lcm_url = "",
+            int state_history = 256);
   ~BusClient() override;
 
   rigid::Bus bus() const { return bus_; }

@@ -255,6 +255,21 @@ TEST(Loopback, BadSettingsAreRefusedWithAnError) {
   dds::Options dds_options;
   dds_options.prefix = "bad prefix";
   EXPECT_THROW(dds::make_transport(dds_options, box), TransportError);
+  dds_options.prefix.clear();
+  dds_options.role = Role::kClient;
+  for (const int history : {0, -1, dds::kMaxStateHistory + 1}) {
+    dds_options.state_history = history;
+    try {
+      (void)dds::make_transport(dds_options, box);
+      ADD_FAILURE() << "state_history " << history << " accepted";
+    } catch (const TransportError& e) {
+      EXPECT_NE(std::string(e.what()).find("state_history " + std::to_string(history)),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  dds_options.state_history = dds::kMaxStateHistory;
+  EXPECT_NO_THROW((void)dds::make_transport(dds_options, box));
   lcm::Options lcm_options;
   lcm_options.prefix = "a.*";
   EXPECT_THROW(lcm::make_transport(lcm_options, box), TransportError);

@@ -48,9 +48,9 @@ Qos topic_qos(Topic topic, bool reliable_state) {
   return qos;
 }
 
-Qos reader_qos(Topic topic, bool reliable_state) {
+Qos reader_qos(Topic topic, bool reliable_state, int state_history) {
   Qos qos = topic_qos(topic, reliable_state);
-  if (topic == Topic::kState) dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kStateReaderDepth);
+  if (topic == Topic::kState) dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, state_history);
   return qos;
 }
 

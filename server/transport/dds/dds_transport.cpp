@@ -23,6 +23,9 @@
 #include "transport/traffic_counter.hpp"
 
 namespace rigid::transport::dds {
+
+static_assert(Options{}.state_history == kStateReaderDepth);
+
 namespace {
 
 void deliver(Receiver& receiver, const StateFrame& message, const Origin& /*origin*/) {
@@ -184,6 +187,10 @@ class DdsTransport final : public Transport {
       throw TransportError("DDS: invalid prefix '" + options.prefix +
                            "' (letters, digits and '_' only)");
     }
+    if (options.state_history < 1 || options.state_history > kMaxStateHistory) {
+      throw TransportError("DDS: state_history " + std::to_string(options.state_history) +
+                           " out of range (1 .. " + std::to_string(kMaxStateHistory) + ")");
+    }
     Qos participant_qos;
     if (!options.security.empty()) {
       identity_ = load_identity(options.security);
@@ -203,13 +210,13 @@ class DdsTransport final : public Transport {
     check(dds_waitset_attach(waitset_.get(), stop_.get(), kStopToken), "attach guard condition");
 
     const TopicNames names = dds_topic_names(options.prefix);
-    create<StateFrame>(names, options.reliable_state);
-    create<WrenchCommand>(names, options.reliable_state);
-    create<ControlCommand>(names, options.reliable_state);
-    create<ControlReply>(names, options.reliable_state);
-    create<StatsReport>(names, options.reliable_state);
-    create<SceneDescription>(names, options.reliable_state);
-    create<AcceptedCommand>(names, options.reliable_state);
+    create<StateFrame>(names, options);
+    create<WrenchCommand>(names, options);
+    create<ControlCommand>(names, options);
+    create<ControlReply>(names, options);
+    create<StatsReport>(names, options);
+    create<SceneDescription>(names, options);
+    create<AcceptedCommand>(names, options);
 
     thread_ = std::thread([this] { receive_loop(); });
   }
@@ -260,10 +267,10 @@ class DdsTransport final : public Transport {
   }
 
   template <class Plain>
-  void create(const TopicNames& names, bool reliable_state) {
+  void create(const TopicNames& names, const Options& options) {
     constexpr Topic topic = DdsTypeOf<Plain>::topic;
     const std::string& name = names[index_of(topic)];
-    Qos qos = topic_qos(topic, reliable_state);
+    Qos qos = topic_qos(topic, options.reliable_state);
     Entity& entity = topics_[index_of(topic)];
     const dds_entity_t created = dds_create_topic(participant_.get(), DdsTypeOf<Plain>::descriptor,
                                                   name.c_str(), qos.get(), nullptr);
@@ -288,7 +295,8 @@ class DdsTransport final : public Transport {
           Entity(dds_create_writer(participant_.get(), entity.get(), qos.get(), nullptr),
                  "writer for " + name);
     } else {
-      if (topic == Topic::kState) qos = reader_qos(topic, reliable_state);
+      if (topic == Topic::kState)
+        qos = reader_qos(topic, options.reliable_state, options.state_history);
       inboxes_.push_back(
           std::make_unique<TypedInbox<Plain>>(participant_.get(), entity.get(), qos.get(), name));
       check(dds_waitset_attach(waitset_.get(), inboxes_.back()->condition(),

@@ -11,6 +11,8 @@
 
 namespace rigid::transport::dds {
 
+inline constexpr int kMaxStateHistory = 65536;
+
 struct Options {
   Role role = Role::kServer;
   std::uint32_t domain = 0;
@@ -19,6 +21,8 @@ struct Options {
   // DDS Security: an identity directory (rigid-keys add KEYSTORE NAME makes
   // KEYSTORE/identities/NAME). Empty: plain DDS, which trusts every process that reaches it.
   std::string security;
+  // A client's state reader keeps this many unread states (dds_qos.hpp says why more than one).
+  int state_history = 256;
 };
 
 // "DDS on loopback unless a network is configured": when CYCLONEDDS_URI is unset, points it at
