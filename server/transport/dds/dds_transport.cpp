@@ -24,7 +24,7 @@
 
 namespace rigid::transport::dds {
 
-static_assert(Options{}.state_history == kStateReaderDepth);
+static_assert(kDefaultStateHistory == kStateReaderDepth);
 
 namespace {
 

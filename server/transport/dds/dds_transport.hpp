@@ -11,6 +11,7 @@
 
 namespace rigid::transport::dds {
 
+inline constexpr int kDefaultStateHistory = 256;
 inline constexpr int kMaxStateHistory = 65536;
 
 struct Options {
@@ -22,7 +23,7 @@ struct Options {
   // KEYSTORE/identities/NAME). Empty: plain DDS, which trusts every process that reaches it.
   std::string security;
   // A client's state reader keeps this many unread states (dds_qos.hpp says why more than one).
-  int state_history = 256;
+  int state_history = kDefaultStateHistory;
 };
 
 // "DDS on loopback unless a network is configured": when CYCLONEDDS_URI is unset, points it at
