@@ -6,7 +6,8 @@
 // integrate_exact.cpp's drift_cached give: a body steps to the same states whichever path, width,
 // lane or thread steps it, and hybrid4's free bodies stay exactly exact_rotor4's (lanes_test's
 // Lanes.FreeBodiesStepBitForBitAsTheScalarCode holds the kernel to it). Built per instruction set
-// like hybrid_lanes.hpp's kernel; the dispatch and what a batch holds are here.
+// like hybrid_lanes.hpp's kernel; the dispatch, and what a block of plans and of states holds, are
+// here.
 #pragma once
 
 #include <cstdint>

@@ -562,15 +562,10 @@ void World::Impl::set_threads(int n) {
 }
 
 namespace {
-// Slice k of `used` equal slices of [b, e).
-detail::Range slice(int b, int e, int k, int used) {
-  const long n = e - b;
-  return {b + static_cast<int>(n * k / used), b + static_cast<int>(n * (k + 1) / used)};
-}
-// The same with the inner ends rounded down to a multiple of `align`: the quiet general bodies
-// step eight at a time in blocks of eight entries (rotor_plans.hpp), and a block cut by a slice's
-// end would step its bodies one at a time.
-detail::Range aligned_slice(int b, int e, int k, int used, int align) {
+// Slice k of `used` equal slices of [b, e), the inner ends rounded down to a multiple of `align`:
+// the quiet general bodies step eight at a time in blocks of eight entries (rotor_plans.hpp), and
+// a block cut by a slice's end would step its bodies one at a time.
+detail::Range slice(int b, int e, int k, int used, int align = 1) {
   const auto end_of = [&](int j) {
     if (j == 0) return b;
     if (j == used) return e;
@@ -589,7 +584,7 @@ void World::Impl::plan_shares(int parts) {
     for (int gi = 0; gi < 4; ++gi) {
       const int n = gs[gi]->size(), q = gs[gi]->quiet_end;
       sh.all[gi] = slice(0, n, k, parts);
-      sh.run[gi][0] = aligned_slice(0, q, k, parts, detail::RotorPlans::kBlock);
+      sh.run[gi][0] = slice(0, q, k, parts, detail::RotorPlans::kBlock);
       sh.run[gi][1] = slice(q, n, k, parts);
     }
   }
