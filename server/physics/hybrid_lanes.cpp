@@ -42,7 +42,7 @@ void put(LaneBatch::L* d, int l, const Vec3& s) {
 }
 
 template <class G>
-void gather(const G& g, const Model& m, int i, int l, LaneBatch& b) {
+void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, LaneBatch& b) {
   const Motion& mo = g.motion[i];
   b.qw[l] = mo.q.w();
   b.qx[l] = mo.q.x();
@@ -70,12 +70,16 @@ void gather(const G& g, const Model& m, int i, int l, LaneBatch& b) {
   b.world_torque[l] = (L.flags & Loads::kWorldTorque) ? -1 : 0;
   b.lever[l] = (L.flags & Loads::kLever) ? -1 : 0;
   put(b.f_W, l, L.f_W);
-  put(b.f_P, l, L.f_P);
   put(b.tau_P, l, L.tau_P);
-  put(b.tau_W, l, L.tau_W);
-  for (int r0 = 0; r0 < 3; ++r0)
-    for (int c0 = 0; c0 < 3; ++c0)
-      b.fr[r0][c0][l] = L.fr(r0, c0);
+  // The terms the kernel reads only when some lane has their flag (its any_*): copied for the
+  // batches that have it (`flags`: the batch's flags together).
+  if (flags & Loads::kBodyForce) put(b.f_P, l, L.f_P);
+  if (flags & Loads::kWorldTorque) put(b.tau_W, l, L.tau_W);
+  if (flags & Loads::kLever) {
+    for (int r0 = 0; r0 < 3; ++r0)
+      for (int c0 = 0; c0 < 3; ++c0)
+        b.fr[r0][c0][l] = L.fr(r0, c0);
+  }
 }
 
 template <class G>
@@ -98,12 +102,15 @@ void run(G& g, const Model& m, Range r, bool general) {
   }
   st.general = general;
   const int W = m.lanes;
-  LaneBatch b;
+  LaneBatch b{};  // zeros: terms a batch does not copy (gather) hold values, never read
   for (int i = r.begin; i < r.end; i += W) {
     const int n = r.end - i < W ? r.end - i : W;
+    std::uint32_t flags = 0;
+    for (int l = 0; l < n; ++l)
+      flags |= g.loads[i + l].flags;
     // Lanes past the run's end repeat its first body of this batch and are never written back.
     for (int l = 0; l < W; ++l)
-      gather(g, m, l < n ? i + l : i, l, b);
+      gather(g, m, l < n ? i + l : i, l, flags, b);
     switch (W) {
       case 8:
         lanes8::step(b, st);

@@ -4,9 +4,10 @@
 // arrays into a LaneBatch (structure of arrays), runs a kernel on it and scatters the result back.
 // The kernel (hybrid_lanes_kernel.cpp) is compiled once per instruction set, 8 lanes with AVX-512,
 // 4 with AVX2, 2 with the x86-64 baseline (SSE2), and picked at run time for the CPU. It includes
-// nothing but this header, lanes.hpp (whose code lives in the kernel's own namespace) and the
-// standard C headers: no inline function of a shared header is compiled with an instruction set
-// the CPU may lack (the linker could keep that copy for everyone).
+// nothing but this header, lanes.hpp (whose code lives in the kernel's own namespace), the
+// standard C headers and the compiler's intrinsics (always inlined): no inline function of a
+// shared header is compiled with an instruction set the CPU may lack (the linker could keep that
+// copy for everyone).
 //
 // Why the states do not depend on the CPU, the thread count or where a body falls in a batch: each
 // lane is one body's arithmetic, the same IEEE operations in the same order in every lane and every

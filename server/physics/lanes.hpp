@@ -10,6 +10,10 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #ifndef RIGID_LANE_WIDTH
 #error "RIGID_LANE_WIDTH must be set by the build"
 #endif
@@ -32,17 +36,39 @@ inline V splat(double x) {
 inline V select(Mask m, V a, V b) {
   return reinterpret_cast<V>((reinterpret_cast<Mask>(a) & m) | (reinterpret_cast<Mask>(b) & ~m));
 }
+// Whether some lane / every lane of a mask is set. The branches they choose skip work whose
+// lanes select() would discard, so only speed depends on them. One test instruction for the
+// lanes of each instruction set: g++ made of a plain reduction loop a move of every lane to a
+// general register (a fifth of the loaded bodies' kernel's samples in perf; 1-3% of its time).
 inline bool any(Mask m) {
+#if RIGID_LANE_WIDTH == 8 && defined(__AVX512F__)
+  const __m512i v = reinterpret_cast<__m512i>(m);
+  return _mm512_test_epi64_mask(v, v) != 0;
+#elif RIGID_LANE_WIDTH == 4 && defined(__AVX__)
+  return _mm256_movemask_pd(reinterpret_cast<__m256d>(m)) != 0;  // lanes are -1 or 0
+#elif RIGID_LANE_WIDTH == 2 && defined(__SSE2__)
+  return _mm_movemask_pd(reinterpret_cast<__m128d>(m)) != 0;
+#else
   std::int64_t r = 0;
   for (int l = 0; l < W; ++l)
     r |= m[l];
   return r != 0;
+#endif
 }
 inline bool all(Mask m) {
+#if RIGID_LANE_WIDTH == 8 && defined(__AVX512F__)
+  const __m512i v = reinterpret_cast<__m512i>(m);
+  return _mm512_test_epi64_mask(v, v) == 0xFF;
+#elif RIGID_LANE_WIDTH == 4 && defined(__AVX__)
+  return _mm256_movemask_pd(reinterpret_cast<__m256d>(m)) == 0xF;
+#elif RIGID_LANE_WIDTH == 2 && defined(__SSE2__)
+  return _mm_movemask_pd(reinterpret_cast<__m128d>(m)) == 0x3;
+#else
   std::int64_t r = -1;
   for (int l = 0; l < W; ++l)
     r &= m[l];
   return r != 0;
+#endif
 }
 inline V abs(V x) {
   return select(x < 0.0, -x, x);
