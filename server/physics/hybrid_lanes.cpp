@@ -41,8 +41,10 @@ void put(LaneBatch::L* d, int l, const Vec3& s) {
   d[2][l] = s.z();
 }
 
+// `coefs`: copy the translation coefficients (false: b holds this lane's already).
 template <class G>
-void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, LaneBatch& b) {
+void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool coefs,
+            LaneBatch& b) {
   const Motion& mo = g.motion[i];
   b.qw[l] = mo.q.w();
   b.qx[l] = mo.q.x();
@@ -54,7 +56,7 @@ void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, LaneB
   const Linear& lin = g.linear[i];
   put(b.g, l, lin.g);
   put(b.inv_m, l, lin.inv_m);
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; coefs && k < 2; ++k) {
     const TransCoef& c = m.tc(lin, k == 0 ? kForced0 : kForced1);
     b.E[k][l] = c.E;
     b.p1[k][l] = c.p1;
@@ -103,14 +105,22 @@ void run(G& g, const Model& m, Range r, bool general) {
   st.general = general;
   const int W = m.lanes;
   LaneBatch b{};  // zeros: terms a batch does not copy (gather) hold values, never read
+  // The drag row (TransTable) whose coefficients every lane of b holds, -1 if none: most worlds
+  // have one drag rate, so the batches after the first need not copy them again.
+  int coef_row = -1;
   for (int i = r.begin; i < r.end; i += W) {
     const int n = r.end - i < W ? r.end - i : W;
     std::uint32_t flags = 0;
-    for (int l = 0; l < n; ++l)
+    int row = g.linear[i].drag;
+    for (int l = 0; l < n; ++l) {
       flags |= g.loads[i + l].flags;
+      if (g.linear[i + l].drag != row) row = -1;
+    }
+    const bool coefs = row < 0 || row != coef_row;
+    coef_row = row;
     // Lanes past the run's end repeat its first body of this batch and are never written back.
     for (int l = 0; l < W; ++l)
-      gather(g, m, l < n ? i + l : i, l, flags, b);
+      gather(g, m, l < n ? i + l : i, l, flags, coefs, b);
     switch (W) {
       case 8:
         lanes8::step(b, st);

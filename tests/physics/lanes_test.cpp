@@ -27,7 +27,7 @@ using physics::LoadSpec;
 
 // General and axisymmetric bodies (the kernel's groups), each with a load that keeps it in the
 // loaded run: a body-fixed thruster, a world force at a lever, a world torque; some with angular
-// drag; every fifth spinning fast enough (|w| dt / 2 > 1/16) for cos_sinc's libm branch: about the
+// or linear drag; every fifth spinning fast enough (|w| dt / 2 > 1/16) for cos_sinc's libm branch: about the
 // middle axis (a tumbling flip, which magnifies any difference: fine for comparisons bit for bit),
 // or with `stable`, about a stable axis (for comparisons to round-off).
 WorldSpec loaded(int n, bool stable = false) {
@@ -42,6 +42,9 @@ WorldSpec loaded(int n, bool stable = false) {
     const Vec3 w = stable ? Vec3(0.1 - e, 0.3 + e, spin) : Vec3(0.3 + e, spin, 0.1 - e);
     BodySpec b = body("b" + std::to_string(i), I, w);
     if (i % 7 == 3) b.angular_drag = 0.05;
+    // Runs of bodies with and without linear drag (two translation tables' rows; a batch may
+    // hold one or both).
+    if (i % 16 >= 11) b.linear_drag = 0.3 + 0.1 * (i % 2);
     b.use_gravity = i % 2 == 1;
     b.v_WBo = {e, 1, 0};
     ws.bodies.push_back(b);
