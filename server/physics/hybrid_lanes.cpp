@@ -104,7 +104,8 @@ void run(G& g, const Model& m, Range r, bool general) {
   }
   st.general = general;
   const int W = m.lanes;
-  LaneBatch b{};  // zeros: terms a batch does not copy (gather) hold values, never read
+  // Zero-initialised: the terms a batch does not copy (gather) hold defined values, never read.
+  LaneBatch b{};
   // The drag row (TransTable) whose coefficients every lane of b holds, -1 if none: most worlds
   // have one drag rate, so the batches after the first need not copy them again.
   int coef_row = -1;

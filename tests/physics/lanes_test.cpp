@@ -27,9 +27,9 @@ using physics::LoadSpec;
 
 // General and axisymmetric bodies (the kernel's groups), each with a load that keeps it in the
 // loaded run: a body-fixed thruster, a world force at a lever, a world torque; some with angular
-// or linear drag; every fifth spinning fast enough (|w| dt / 2 > 1/16) for cos_sinc's libm branch: about the
-// middle axis (a tumbling flip, which magnifies any difference: fine for comparisons bit for bit),
-// or with `stable`, about a stable axis (for comparisons to round-off).
+// or linear drag; every fifth spinning fast enough (|w| dt / 2 > 1/16) for cos_sinc's libm
+// branch: about the middle axis (a tumbling flip, which magnifies any difference: fine for
+// comparisons bit for bit), or with `stable`, about a stable axis (for comparisons to round-off).
 WorldSpec loaded(int n, bool stable = false) {
   WorldSpec ws;
   ws.dt = 1e-3;
