@@ -216,9 +216,9 @@ def throughput_section(t, link):
         "",
         "**Memory per body**: the heap a World allocates when it is built (glibc's count of bytes "
         "in use before and after the constructor, per body), and the growth of the resident set "
-        "over the construction and first step (pages actually touched). It includes the World's "
-        "copy of every BodySpec (name, inertia, initial state), kept for reset() and "
-        "body_spec().",
+        "over the construction and first step (pages actually touched). It includes what the "
+        "World keeps of every BodySpec for reset() and body_spec(): the name, the initial state "
+        "and an index into the parameters (mass, inertia, drags, flags) that bodies share.",
         "",
         f"![memory]({link}/memory.png)",
         "",

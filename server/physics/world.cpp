@@ -13,6 +13,7 @@
 #include "physics/kernels.hpp"
 #include "physics/model.hpp"
 #include "physics/pool.hpp"
+#include "physics/spec_store.hpp"
 
 namespace rigid::physics {
 
@@ -86,7 +87,8 @@ void build_trans_table(Model& m) {
 }  // namespace detail
 
 struct World::Impl {
-  WorldSpec spec;  // validated; orientations normalised
+  Vec3 g_W = Vec3::Zero();
+  detail::SpecStore specs;  // the bodies' specs, validated, orientations normalised: cold
   const IntegratorInfo* integrator = nullptr;
   std::int64_t steps = 0;
   Model model;
@@ -141,7 +143,7 @@ struct World::Impl {
     }
   } pool;
 
-  void compile();
+  void compile(const WorldSpec& spec);
   // The translational parameters of body id as its spec gives them (g, 1/m, drag and its row).
   Linear linear_of(int id) const;
   const Loads& base_load(int id) const {
@@ -255,7 +257,7 @@ void validate_body(const BodySpec& b, int i) {
 
 }  // namespace
 
-void World::Impl::compile() {
+void World::Impl::compile(const WorldSpec& spec) {
   const int n = static_cast<int>(spec.bodies.size());
   if (!(std::isfinite(spec.dt) && spec.dt > 0.0)) {
     throw SpecError(-1, "dt",
@@ -292,9 +294,8 @@ void World::Impl::compile() {
     }
   }
   for (int i = 0; i < n; ++i) {
-    BodySpec& b = spec.bodies[i];
+    const BodySpec& b = spec.bodies[i];
     validate_body(b, i);
-    b.q_WB.normalize();
     if (i == duplicate) throw SpecError(i, "name", "body '" + b.name + "': duplicate name");
   }
   for (int k = 0; k < static_cast<int>(spec.loads.size()); ++k) {
@@ -311,6 +312,8 @@ void World::Impl::compile() {
     }
   }
 
+  specs = detail::SpecStore(spec.bodies);
+  g_W = spec.g_W;
   model = Model{};
   model.dt = spec.dt;
   model.trans.gamma.push_back(0.0);
@@ -322,6 +325,7 @@ void World::Impl::compile() {
 
   for (int i = 0; i < n; ++i) {
     const BodySpec& b = spec.bodies[i];
+    const Quat q_WB = specs.q_WB(i);  // normalised
     const int frozen = std::count(b.freeze_rotation.begin(), b.freeze_rotation.end(), true);
     BodyModel kind;
     PrincipalInertia pi;
@@ -343,7 +347,7 @@ void World::Impl::compile() {
       kind = BodyModel::kIsotropic;
       const int free_axis = !b.freeze_rotation[0] ? 0 : (!b.freeze_rotation[1] ? 1 : 2);
       const Vec3 e = Vec3::Unit(free_axis);
-      const Mat3 R = b.q_WB.toRotationMatrix();
+      const Mat3 R = q_WB.toRotationMatrix();
       const double Ie = e.dot(R * b.I_B * R.transpose() * e);
       pi.q_BP = Quat::Identity();
       iso.inv_I = 1.0 / Ie;
@@ -426,8 +430,7 @@ void World::Impl::compile() {
         model.gen.q_BP.push_back(q_BP);
         break;
     }
-    BodyState s{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB};
-    set_state(i, s);
+    set_state(i, BodyState{b.p_WBo, q_WB, b.v_WBo, b.w_WB});
   }
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
@@ -480,21 +483,17 @@ void World::Impl::compile() {
   regroup_ids.clear();
   for (int i = 0; i < n; ++i)
     place(i);
-  // The spec's loads live on compiled (base_ids, base_values); nothing reads the LoadSpecs again,
-  // and they cost 88 B each.
-  spec.loads.clear();
-  spec.loads.shrink_to_fit();
   set_threads(spec.threads);
 }
 
 Linear World::Impl::linear_of(int id) const {
-  const BodySpec& b = spec.bodies[id];
+  const detail::SpecStore::Params& b = specs.params(id);
   Linear lin;
   if (b.kinematic) return lin;
   for (int a = 0; a < 3; ++a) {
     if (b.freeze_translation[a]) continue;
     lin.inv_m[a] = 1.0 / b.mass;
-    if (b.use_gravity) lin.g[a] = spec.g_W[a];
+    if (b.use_gravity) lin.g[a] = g_W[a];
   }
   lin.gamma = b.linear_drag / b.mass;
   // The row compile() gave this rate: the first with an equal one (rows are distinct rates).
@@ -703,7 +702,7 @@ void World::Impl::invalidate_cache(int id) {
 }
 
 void World::Impl::set_state(int id, const BodyState& st) {
-  const BodySpec& b = spec.bodies[id];
+  const detail::SpecStore::Params& b = specs.params(id);
   Motion& m = motion(id);
   m.x = st.p_WBo;
   m.v = st.v_WBo;
@@ -773,7 +772,7 @@ Vec3 World::Impl::angular_momentum_P(int id) const {
     case BodyModel::kIsotropic: {
       const IsoRot& r = model.iso.rot[s.index];
       // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
-      if (r.inv_I == 0.0) return spec.bodies[id].I_B * m.spin;
+      if (r.inv_I == 0.0) return specs.params(id).I_B * m.spin;
       return m.spin / r.inv_I;
     }
     case BodyModel::kAxisymmetric:
@@ -800,8 +799,7 @@ Vec3 World::Impl::omega_P(int id) const {
 }
 
 World::World(const WorldSpec& spec) : impl_(std::make_unique<Impl>()) {
-  impl_->spec = spec;
-  impl_->compile();
+  impl_->compile(spec);
 }
 World::~World() = default;
 World::World(World&&) noexcept = default;
@@ -896,13 +894,17 @@ int World::find_body(std::string_view name) const {
   const Impl& w = *impl_;
   const auto it =
       std::lower_bound(w.by_name.begin(), w.by_name.end(), name,
-                       [&](int id, std::string_view n) { return w.spec.bodies[id].name < n; });
-  return it != w.by_name.end() && w.spec.bodies[*it].name == name ? *it : -1;
+                       [&](int id, std::string_view n) { return w.specs.name(id) < n; });
+  return it != w.by_name.end() && w.specs.name(*it) == name ? *it : -1;
 }
 
-const BodySpec& World::body_spec(int id) const {
+BodySpec World::body_spec(int id) const {
   impl_->check_id(id);
-  return impl_->spec.bodies[id];
+  return impl_->specs.get(id);
+}
+std::string_view World::body_name(int id) const {
+  impl_->check_id(id);
+  return impl_->specs.name(id);
 }
 BodyModel World::body_model(int id) const {
   impl_->check_id(id);
@@ -919,7 +921,7 @@ Vec3 World::principal_moments(int id) const {
     case BodyModel::kIsotropic: {
       const double inv_I = w.model.iso.rot[s.index].inv_I;
       return inv_I > 0 ? Vec3::Constant(1.0 / inv_I)
-                       : principal_inertia(w.spec.bodies[id].I_B).moments;
+                       : principal_inertia(w.specs.params(id).I_B).moments;
     }
     case BodyModel::kAxisymmetric:
       return w.model.axi.rot[s.index].I;
@@ -987,7 +989,7 @@ void World::set_state(int id, const BodyState& s) {
   impl_->check_id(id);
   if (!s.p_WBo.allFinite() || !s.v_WBo.allFinite() || !s.w_WB.allFinite() ||
       !s.q_WB.coeffs().allFinite() || s.q_WB.norm() < 1e-6) {
-    throw std::invalid_argument("set_state: body '" + impl_->spec.bodies[id].name +
+    throw std::invalid_argument("set_state: body '" + std::string(impl_->specs.name(id)) +
                                 "': the state must be finite, with a non-zero quaternion");
   }
   impl_->set_state(id, s);
@@ -999,8 +1001,8 @@ void World::reset() {
   w.model.large_rotations = 0;
   w.thaw_all();
   for (int i = 0; i < body_count(); ++i) {
-    const BodySpec& b = w.spec.bodies[i];
-    w.set_state(i, BodyState{b.p_WBo, b.q_WB, b.v_WBo, b.w_WB});
+    const detail::SpecStore& b = w.specs;
+    w.set_state(i, BodyState{b.p_WBo(i), b.q_WB(i), b.v_WBo(i), b.w_WB(i)});
   }
   for (const Impl::Pending& p : w.pending)
     w.pending_slot[p.id] = -1;
@@ -1041,7 +1043,7 @@ bool World::is_frozen(int id) const {
 void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic || w.frozen[id]) return;
   const Quat q_PB = w.rot_BP(id).conjugate();
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.load(id).quiet();
@@ -1054,7 +1056,7 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
 void World::add_torque(int id, const Vec3& tau, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.load(id).quiet();
   Loads v = w.load_value(id);
@@ -1066,7 +1068,7 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
 void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.spec.bodies[id].kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic || w.frozen[id]) return;
   const BodyState s = state(id);
   const Vec3 J_W = frame == Frame::kBody ? Vec3(s.q_WB * J) : J;
   const Vec3 r_W = s.q_WB * p_BoQ_B;
@@ -1082,7 +1084,7 @@ void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame fram
 double World::kinetic_energy(int id) const {
   impl_->check_id(id);
   const Motion& m = impl_->motion(id);
-  const double mass = impl_->spec.bodies[id].mass;
+  const double mass = impl_->specs.params(id).mass;
   return 0.5 * mass * m.v.squaredNorm() +
          0.5 * impl_->omega_P(id).dot(impl_->angular_momentum_P(id));
 }
@@ -1092,7 +1094,7 @@ double World::total_energy() const {
   for (int i = 0; i < body_count(); ++i) {
     e += kinetic_energy(i);
     const Linear& lin = impl_->linear(i);
-    e -= impl_->spec.bodies[i].mass * lin.g.dot(impl_->motion(i).x);
+    e -= impl_->specs.params(i).mass * lin.g.dot(impl_->motion(i).x);
   }
   return e;
 }

@@ -112,7 +112,10 @@ class World {
   int body_count() const;
   // -1 when there is no body of that name.
   int find_body(std::string_view name) const;
-  const BodySpec& body_spec(int id) const;
+  // The body's spec as the world was given it (orientation normalised). Assembled on each call
+  // (World keeps specs compactly: spec_store.hpp); body_name alone copies nothing.
+  BodySpec body_spec(int id) const;
+  std::string_view body_name(int id) const;
   BodyModel body_model(int id) const;
   // Principal moments (ascending) and the rotation from the principal frame P to B.
   Vec3 principal_moments(int id) const;

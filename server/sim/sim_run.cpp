@@ -87,7 +87,7 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
   r.every = options.every.value_or(scene.publish_every);
   for (int id = 0; id < world.body_count(); ++id) {
     BodySummary b;
-    b.name = world.body_spec(id).name;
+    b.name = world.body_name(id);
     b.model = world.body_model(id);
     b.ke0 = world.kinetic_energy(id);
     b.L0 = world.angular_momentum_W(id);

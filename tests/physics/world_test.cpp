@@ -436,6 +436,62 @@ TEST(WorldCold, EveryNameIsFoundAndTheFirstRepeatIsTheDuplicate) {
   expect_rejected(ws, 100, "mass");
 }
 
+// World keeps the specs compactly (spec_store.hpp: bodies with equal parameters share them):
+// body_spec gives back each body's spec bit for bit, whichever fields it shares with others.
+TEST(WorldCold, BodySpecGivesBackEveryBodyAsGiven) {
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  WorldSpec ws;
+  for (int i = 0; i < 60; ++i) {
+    BodySpec b =
+        body(std::string(static_cast<std::size_t>(1 + i % 23), 'a' + i % 26) + std::to_string(i),
+             {1, 2, 3});
+    // Every fourth body has its own parameters; the rest share one of two kinds.
+    b.mass = i % 4 == 0 ? 1.0 + i : 2.0 + i % 2;
+    b.I_B = rotated(Vec3(2, 2.5, 3 + 0.25 * (i % 4)),
+                    Quat(Eigen::AngleAxisd(0.1 * (i % 4), Vec3::UnitY())));
+    b.linear_drag = i % 3 == 0 ? 0.0 : -0.0;  // equal, but not the same bits
+    b.angular_drag = 0.01 * (i % 2);
+    b.use_gravity = i % 5 != 0;
+    b.kinematic = i % 7 == 0;
+    b.has_inertia = i % 11 != 0;
+    b.freeze_translation = {i % 13 == 0, false, i % 17 == 0};
+    b.freeze_rotation = i % 19 == 0 ? std::array<bool, 3>{true, true, false}
+                                    : std::array<bool, 3>{false, false, false};
+    b.p_WBo = Vec3(i, -2.0 * i, 1e-300 * i);
+    b.q_WB = Quat(Eigen::AngleAxisd(0.05 * i, Vec3(1, -1, 2).normalized()));
+    b.v_WBo = Vec3(0.5 * i, 0, -1);
+    b.w_WB = Vec3(0, 0.25 * i, 3);
+    ws.bodies.push_back(b);
+  }
+  const World w(ws);
+  for (int i = 0; i < w.body_count(); ++i) {
+    const BodySpec& in = ws.bodies[i];
+    const BodySpec out = w.body_spec(i);
+    SCOPED_TRACE(in.name);
+    EXPECT_EQ(out.name, in.name);
+    EXPECT_EQ(w.body_name(i), in.name);
+    EXPECT_EQ(bits(out.mass), bits(in.mass));
+    for (int k = 0; k < 9; ++k)
+      EXPECT_EQ(bits(out.I_B.data()[k]), bits(in.I_B.data()[k]));
+    EXPECT_EQ(bits(out.linear_drag), bits(in.linear_drag));
+    EXPECT_EQ(bits(out.angular_drag), bits(in.angular_drag));
+    EXPECT_EQ(out.use_gravity, in.use_gravity);
+    EXPECT_EQ(out.kinematic, in.kinematic);
+    EXPECT_EQ(out.has_inertia, in.has_inertia);
+    EXPECT_EQ(out.freeze_translation, in.freeze_translation);
+    EXPECT_EQ(out.freeze_rotation, in.freeze_rotation);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(bits(out.p_WBo[a]), bits(in.p_WBo[a]));
+      EXPECT_EQ(bits(out.v_WBo[a]), bits(in.v_WBo[a]));
+      EXPECT_EQ(bits(out.w_WB[a]), bits(in.w_WB[a]));
+    }
+    // The orientation normalised, as the world steps it.
+    const Quat q = in.q_WB.normalized();
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(bits(out.q_WB.coeffs()[k]), bits(q.coeffs()[k]));
+  }
+}
+
 TEST(WorldCold, MomentsAndPrincipalFramesComeFromTheModel) {
   const Quat tilt(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
   WorldSpec ws = tilted_bodies(tilt);

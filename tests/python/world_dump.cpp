@@ -57,7 +57,7 @@ void print(const World& w) {
     const rigid::physics::BodyState s = w.state(i);
     std::printf(
         "%lld,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-        static_cast<long long>(w.step_count()), w.body_spec(i).name.c_str(), s.p_WBo.x(),
+        static_cast<long long>(w.step_count()), std::string(w.body_name(i)).c_str(), s.p_WBo.x(),
         s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(), s.v_WBo.x(),
         s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z());
   }

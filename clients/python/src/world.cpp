@@ -162,7 +162,7 @@ class PyWorld {
     std::vector<std::string> names;
     names.reserve(static_cast<std::size_t>(world_.body_count()));
     for (int i = 0; i < world_.body_count(); ++i)
-      names.push_back(world_.body_spec(i).name);
+      names.emplace_back(world_.body_name(i));
     return names;
   }
 
@@ -267,8 +267,9 @@ class PyWorld {
     const Vec3 p = locked([&] {
       Vec3 sum = Vec3::Zero();
       for (int i = id.value_or(0); i < (id ? *id + 1 : world_.body_count()); ++i) {
-        if (world_.body_spec(i).kinematic) continue;  // no mass that forces act on
-        sum += world_.body_spec(i).mass * world_.state(i).v_WBo;
+        const physics::BodySpec spec = world_.body_spec(i);
+        if (spec.kinematic) continue;  // no mass that forces act on
+        sum += spec.mass * world_.state(i).v_WBo;
       }
       return sum;
     });
@@ -285,9 +286,10 @@ class PyWorld {
     const Vec3 total = locked([&] {
       Vec3 sum = Vec3::Zero();
       for (int i = 0; i < world_.body_count(); ++i) {
-        if (world_.body_spec(i).kinematic) continue;
+        const physics::BodySpec spec = world_.body_spec(i);
+        if (spec.kinematic) continue;
         const physics::BodyState s = world_.state(i);
-        sum += world_.angular_momentum_W(i) + s.p_WBo.cross(world_.body_spec(i).mass * s.v_WBo);
+        sum += world_.angular_momentum_W(i) + s.p_WBo.cross(spec.mass * s.v_WBo);
       }
       return sum;
     });
@@ -304,12 +306,12 @@ class PyWorld {
 
   py::array_t<double> inertia(const py::handle& b) const {
     const int id = body(b);
-    const physics::Mat3& I = world_.body_spec(id).I_B;
+    const physics::BodySpec spec = world_.body_spec(id);
     py::array_t<double> a({3, 3});
     auto r = a.mutable_unchecked<2>();
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        r(i, j) = world_.body_spec(id).has_inertia ? I(i, j) : 0.0;
+        r(i, j) = spec.has_inertia ? spec.I_B(i, j) : 0.0;
     return a;
   }
 
@@ -368,7 +370,7 @@ class PyWorld {
   std::string body_list() const {
     std::string text;
     for (int i = 0; i < world_.body_count(); ++i)
-      text += (i == 0 ? "" : ", ") + world_.body_spec(i).name;
+      text += (i == 0 ? "" : ", ") + std::string(world_.body_name(i));
     return text.empty() ? "none" : text;
   }
 
@@ -377,8 +379,8 @@ class PyWorld {
   void check_finite(const char* op, int id, const char* what,
                     const std::array<double, 3>& v) const {
     if (!finite(v)) {
-      raise(value_error(), std::string(op) + ": body '" + world_.body_spec(id).name + "': " + what +
-                               " " + vec_text(v) + " is not finite");
+      raise(value_error(), std::string(op) + ": body '" + std::string(world_.body_name(id)) +
+                               "': " + what + " " + vec_text(v) + " is not finite");
     }
   }
 

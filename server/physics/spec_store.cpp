@@ -1,0 +1,87 @@
+#include "physics/spec_store.hpp"
+
+#include <bit>
+#include <map>
+
+namespace rigid::physics::detail {
+
+namespace {
+
+// Params compared by their bits: two bodies share an entry only if get() gives each back exactly
+// (-0.0 and 0.0 stay apart).
+struct ParamsKey {
+  std::array<std::uint64_t, 12> bits{};
+  unsigned flags = 0;
+  auto operator<=>(const ParamsKey&) const = default;
+};
+
+ParamsKey key_of(const SpecStore::Params& p) {
+  ParamsKey k;
+  k.bits[0] = std::bit_cast<std::uint64_t>(p.mass);
+  for (int i = 0; i < 9; ++i)
+    k.bits[1 + i] = std::bit_cast<std::uint64_t>(p.I_B.data()[i]);
+  k.bits[10] = std::bit_cast<std::uint64_t>(p.linear_drag);
+  k.bits[11] = std::bit_cast<std::uint64_t>(p.angular_drag);
+  const bool flags[] = {p.has_inertia,           p.use_gravity,           p.kinematic,
+                        p.freeze_translation[0], p.freeze_translation[1], p.freeze_translation[2],
+                        p.freeze_rotation[0],    p.freeze_rotation[1],    p.freeze_rotation[2]};
+  for (unsigned i = 0; i < std::size(flags); ++i)
+    k.flags |= static_cast<unsigned>(flags[i]) << i;
+  return k;
+}
+
+}  // namespace
+
+SpecStore::SpecStore(const std::vector<BodySpec>& bodies) {
+  const std::size_t n = bodies.size();
+  std::size_t chars = 0;
+  for (const BodySpec& b : bodies)
+    chars += b.name.size();
+  names_.reserve(chars);
+  name_end_.reserve(n);
+  initial_.reserve(n);
+  params_of_.reserve(n);
+  std::map<ParamsKey, std::uint32_t> index;
+  for (const BodySpec& b : bodies) {
+    names_ += b.name;
+    name_end_.push_back(names_.size());
+    Initial s;
+    for (int a = 0; a < 3; ++a) {
+      s.p[a] = b.p_WBo[a];
+      s.v[a] = b.v_WBo[a];
+      s.w[a] = b.w_WB[a];
+    }
+    const Quat q = b.q_WB.normalized();
+    s.q[0] = q.w(), s.q[1] = q.x(), s.q[2] = q.y(), s.q[3] = q.z();
+    initial_.push_back(s);
+    const Params p{b.mass,           b.I_B,         b.linear_drag, b.angular_drag,
+                   b.has_inertia,    b.use_gravity, b.kinematic,   b.freeze_translation,
+                   b.freeze_rotation};
+    const auto [it, added] = index.emplace(key_of(p), static_cast<std::uint32_t>(params_.size()));
+    if (added) params_.push_back(p);
+    params_of_.push_back(it->second);
+  }
+  params_.shrink_to_fit();
+}
+
+BodySpec SpecStore::get(int id) const {
+  const Params& p = params(id);
+  BodySpec b;
+  b.name = name(id);
+  b.mass = p.mass;
+  b.I_B = p.I_B;
+  b.has_inertia = p.has_inertia;
+  b.p_WBo = p_WBo(id);
+  b.q_WB = q_WB(id);
+  b.v_WBo = v_WBo(id);
+  b.w_WB = w_WB(id);
+  b.linear_drag = p.linear_drag;
+  b.angular_drag = p.angular_drag;
+  b.use_gravity = p.use_gravity;
+  b.kinematic = p.kinematic;
+  b.freeze_translation = p.freeze_translation;
+  b.freeze_rotation = p.freeze_rotation;
+  return b;
+}
+
+}  // namespace rigid::physics::detail

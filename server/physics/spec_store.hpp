@@ -1,0 +1,71 @@
+// The scene's bodies as World keeps them after compiling: cold data, read by reset(), body_spec(),
+// find_body() and the API's edges, never by a step. A BodySpec is 256 B (its name's std::string,
+// a 3x3 inertia, Eigen's alignment); kept as it is, the copies were a quarter of a general body's
+// memory and half a point mass's (bench/memory_bench.cpp). Here a body costs its initial state
+// (13 doubles), the index of its parameters, which bodies with equal ones share (mass, inertia,
+// drags, flags: a scene of 10^6 bodies usually has a handful of kinds), and its name's bytes in one
+// buffer: ~120 B. get(id) gives back the BodySpec it was given, bit for bit, but for its
+// orientation, which is kept normalised (World validates that it can be).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "physics/spec.hpp"
+
+namespace rigid::physics::detail {
+
+class SpecStore {
+ public:
+  // Everything of a BodySpec but its name and its initial state.
+  struct Params {
+    double mass = 1.0;
+    Mat3 I_B = Mat3::Identity();
+    double linear_drag = 0.0;
+    double angular_drag = 0.0;
+    bool has_inertia = true;
+    bool use_gravity = true;
+    bool kinematic = false;
+    std::array<bool, 3> freeze_translation{false, false, false};
+    std::array<bool, 3> freeze_rotation{false, false, false};
+  };
+
+  // Keeps a copy of `bodies`, orientations normalised.
+  explicit SpecStore(const std::vector<BodySpec>& bodies);
+  SpecStore() = default;
+
+  int size() const { return static_cast<int>(initial_.size()); }
+  std::string_view name(int id) const {
+    const std::uint64_t b = id == 0 ? 0 : name_end_[id - 1];
+    return std::string_view(names_).substr(b, name_end_[id] - b);
+  }
+  const Params& params(int id) const { return params_[params_of_[id]]; }
+  // The spec's initial state.
+  Vec3 p_WBo(int id) const { return Vec3(initial_[id].p); }
+  Quat q_WB(int id) const {
+    const double* q = initial_[id].q;
+    return Quat(q[0], q[1], q[2], q[3]);
+  }
+  Vec3 v_WBo(int id) const { return Vec3(initial_[id].v); }
+  Vec3 w_WB(int id) const { return Vec3(initial_[id].w); }
+  // The BodySpec of body id, as given.
+  BodySpec get(int id) const;
+  // Kinds of parameters stored (bodies with equal ones share an entry).
+  int kinds() const { return static_cast<int>(params_.size()); }
+
+ private:
+  // Unaligned doubles: 104 B, where a BodyState's Eigen members take 112.
+  struct Initial {
+    double p[3], q[4], v[3], w[3];
+  };
+  std::string names_;                     // every name, one after the other
+  std::vector<std::uint64_t> name_end_;   // where body id's name ends in names_
+  std::vector<Initial> initial_;          // by body id
+  std::vector<std::uint32_t> params_of_;  // by body id: its entry in params_
+  std::vector<Params> params_;
+};
+
+}  // namespace rigid::physics::detail
