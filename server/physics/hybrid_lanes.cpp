@@ -41,9 +41,10 @@ void put(LaneBatch::L* d, int l, const Vec3& s) {
   d[2][l] = s.z();
 }
 
-// `coefs`: copy the translation coefficients (false: b holds this lane's already).
+// `linear`, `coefs`: copy the translation parameters (g, 1/m), the translation coefficients
+// (false: b holds this lane's already).
 template <class G>
-void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool coefs,
+void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool linear, bool coefs,
             LaneBatch& b) {
   const Motion& mo = g.motion[i];
   b.qw[l] = mo.q.w();
@@ -53,9 +54,11 @@ void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool 
   put(b.x, l, mo.x);
   put(b.v, l, mo.v);
   put(b.m, l, mo.spin);
-  const Linear& lin = g.linear[i];
-  put(b.g, l, lin.g);
-  put(b.inv_m, l, lin.inv_m);
+  const Linear& lin = g.linear(i);
+  if (linear) {
+    put(b.g, l, lin.g);
+    put(b.inv_m, l, lin.inv_m);
+  }
   for (int k = 0; coefs && k < 2; ++k) {
     const TransCoef& c = m.tc(lin, k == 0 ? kForced0 : kForced1);
     b.E[k][l] = c.E;
@@ -106,22 +109,26 @@ void run(G& g, const Model& m, Range r, bool general) {
   const int W = m.lanes;
   // Zero-initialised: the terms a batch does not copy (gather) hold defined values, never read.
   LaneBatch b{};
-  // The drag row (TransTable) whose coefficients every lane of b holds, -1 if none: most worlds
-  // have one drag rate, so the batches after the first need not copy them again.
-  int coef_row = -1;
+  // The drag row (TransTable) whose coefficients every lane of b holds, and the shared entry
+  // (Group::linears) whose parameters every lane holds, -1 if none: most worlds have one drag
+  // rate and a few kinds of body, so the batches after the first need not copy them again.
+  int coef_row = -1, lin_entry = -1;
   for (int i = r.begin; i < r.end; i += W) {
     const int n = r.end - i < W ? r.end - i : W;
     std::uint32_t flags = 0;
-    int row = g.linear[i].drag;
+    int row = g.linear(i).drag, entry = g.lin_of[i];
     for (int l = 0; l < n; ++l) {
       flags |= g.loads[i + l].flags;
-      if (g.linear[i + l].drag != row) row = -1;
+      if (g.linear(i + l).drag != row) row = -1;
+      if (g.lin_of[i + l] != entry) entry = -1;
     }
     const bool coefs = row < 0 || row != coef_row;
+    const bool linear = entry < 0 || entry != lin_entry;
     coef_row = row;
+    lin_entry = entry;
     // Lanes past the run's end repeat its first body of this batch and are never written back.
     for (int l = 0; l < W; ++l)
-      gather(g, m, l < n ? i + l : i, l, flags, coefs, b);
+      gather(g, m, l < n ? i + l : i, l, flags, linear, coefs, b);
     switch (W) {
       case 8:
         lanes8::step(b, st);

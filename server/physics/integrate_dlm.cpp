@@ -36,7 +36,7 @@ void dlm_group(G& g, const Model& m, Share& sh) {
   const double h = m.dt;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
-    const Linear& lin = g.linear[i];
+    const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
     const TransCoef& half = m.tc(lin, kHalf);
     Vec3 rate = Vec3::Zero();

@@ -95,10 +95,11 @@ inline void invalidate(GenGroup& g, int i) {
 
 void exact_points(PointGroup& g, const Model& m, Range r) {
   // A point mass never turns: its acceleration is constant over the step, so this is exact.
+  LinearCursor c(g, m, kFull);
   for (int i = r.begin; i < r.end; ++i) {
     Motion& b = g.motion[i];
-    const Linear& lin = g.linear[i];
-    translate(m.tc(lin, kFull), lin.accel(g.load(i).force_W(b.q)), b.x, b.v);
+    c.at(i);
+    translate(c.tc(), c.lin().accel(g.load(i).force_W(b.q)), b.x, b.v);
   }
 }
 
@@ -107,9 +108,11 @@ void exact_points(PointGroup& g, const Model& m, Range r) {
 template <class G>
 void exact_quiet(G& g, const Model& m, Range r) {
   const double h = m.dt;
+  LinearCursor c(g, m, kFull);
   for (int i = r.begin; i < r.end; ++i) {
     Motion& b = g.motion[i];
-    translate(m.tc(g.linear[i], kFull), g.linear[i].accel(g.loads[i].f_W), b.x, b.v);
+    c.at(i);
+    translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
     drift_cached(g, i, h);
   }
 }
@@ -125,6 +128,7 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
   if (width == 1) return exact_quiet(g, m, r);
   constexpr int kBlock = RotorPlans::kBlock;
   RotorStateLanes st;
+  LinearCursor c(g, m, kFull);
   for (int i = r.begin; i < r.end;) {
     bool whole = i % kBlock == 0 && i + kBlock <= r.end;
     for (int l = 0; whole && l < kBlock; ++l)
@@ -132,8 +136,8 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
     const int n = whole ? kBlock : 1;
     for (int l = 0; l < n; ++l) {
       Motion& mo = g.motion[i + l];
-      const Linear& lin = g.linear[i + l];
-      translate(m.tc(lin, kFull), lin.accel(g.loads[i + l].f_W), mo.x, mo.v);
+      c.at(i + l);
+      translate(c.tc(), c.lin().accel(g.loads[i + l].f_W), mo.x, mo.v);
     }
     if (whole) {
       g.plan.prefetch(i / kBlock + 2);
@@ -156,7 +160,7 @@ template <class Comp, class G, class Drift>
 inline void compose_loaded(G& g, const Model& m, int i, Drift&& drift) {
   const double h = m.dt;
   Motion& b = g.motion[i];
-  const Linear& lin = g.linear[i];
+  const Linear& lin = g.linear(i);
   const LoadsRef L = g.load(i);
   const auto& rot = g.rot[i];
   const Vec3 rates = rot.drag_rates();

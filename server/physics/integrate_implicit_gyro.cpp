@@ -21,7 +21,7 @@ void implicit_gyro_group(G& g, const Model& m, Share& sh) {
   const double h = m.dt;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
-    const Linear& lin = g.linear[i];
+    const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
     const TransCoef& k = m.tc(lin, kFull);
     kick(k, lin.accel(L.force_W(s.q)), s.v);

@@ -28,7 +28,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
-    const Linear& lin = g.linear[i];
+    const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
     const auto accel = [&](const Quat& q, const Vec3& v) {
       return Vec3(lin.accel(L.force_W(q)) - lin.gamma * v);

@@ -26,7 +26,7 @@ void rk4_group(G& g, const Model& m, Share& sh) {
   constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
     Motion& s = g.motion[i];
-    const Linear& lin = g.linear[i];
+    const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
     // The stages' q drift off the unit sphere; loads that turn with the body are evaluated at the
     // normalised q (one reciprocal, not four divisions), the others need no q at all.

@@ -92,7 +92,12 @@ struct Group {
   int quiet_end = 0;
   std::vector<int> id;  // body id of each entry
   std::vector<Motion> motion;
-  std::vector<Linear> linear;
+  // Translation parameters, which entries with equal ones share (World interns them when it is
+  // built: 4 B a body instead of 64): per entry its index in `linears`, whose entry 0 is all zero,
+  // a still body's (the guard's frozen bodies point there).
+  std::vector<std::int32_t> lin_of;
+  std::vector<Linear> linears{Linear{}};
+  const Linear& linear(int i) const { return linears[lin_of[i]]; }
   // Spec loads + applied loads, in P (loads.hpp: LoadHead): per entry the head, and the terms of
   // the entries that have any in a pool, entry 0 all zero. The pool's capacity is reserved for
   // every body when the world is built (reserve_terms), so that giving a body terms while stepping
@@ -251,6 +256,32 @@ struct Model {
   TransTable trans;
 
   const TransCoef& tc(const Linear& l, TransSize s) const { return trans.coef[l.drag][s]; }
+};
+
+// The translation parameters of consecutive entries of a group and their coefficients for one
+// step size, fetched again only when an entry's index differs from the last one's. Bodies mostly
+// share a few entries, so the quiet loops load a 4 B index a body instead of following it to the
+// shared entry and on to its drag row each time.
+class LinearCursor {
+ public:
+  LinearCursor(const Group& g, const Model& m, TransSize size) : g_(g), m_(m), size_(size) {}
+  void at(int i) {
+    const int k = g_.lin_of[i];
+    if (k == k_) return;
+    k_ = k;
+    lin_ = g_.linears[k];
+    tc_ = m_.tc(lin_, size_);
+  }
+  const Linear& lin() const { return lin_; }
+  const TransCoef& tc() const { return tc_; }
+
+ private:
+  const Group& g_;
+  const Model& m_;
+  TransSize size_;
+  int k_ = -1;
+  Linear lin_;
+  TransCoef tc_;
 };
 
 // Fills the translation table for the model's dt.

@@ -1,7 +1,8 @@
 #include "physics/spec_store.hpp"
 
 #include <bit>
-#include <map>
+
+#include "physics/intern.hpp"
 
 namespace rigid::physics::detail {
 
@@ -40,8 +41,12 @@ SpecStore::SpecStore(const std::vector<BodySpec>& bodies) {
   names_.reserve(chars);
   name_end_.reserve(n);
   initial_.reserve(n);
-  params_of_.reserve(n);
-  std::map<ParamsKey, std::uint32_t> index;
+  const auto params_of = [](const BodySpec& b) {
+    return Params{b.mass,        b.I_B,       b.linear_drag,        b.angular_drag,   b.has_inertia,
+                  b.use_gravity, b.kinematic, b.freeze_translation, b.freeze_rotation};
+  };
+  std::vector<ParamsKey> keys;
+  keys.reserve(n);
   for (const BodySpec& b : bodies) {
     names_ += b.name;
     name_end_.push_back(names_.size());
@@ -54,14 +59,13 @@ SpecStore::SpecStore(const std::vector<BodySpec>& bodies) {
     const Quat q = b.q_WB.normalized();
     s.q[0] = q.w(), s.q[1] = q.x(), s.q[2] = q.y(), s.q[3] = q.z();
     initial_.push_back(s);
-    const Params p{b.mass,           b.I_B,         b.linear_drag, b.angular_drag,
-                   b.has_inertia,    b.use_gravity, b.kinematic,   b.freeze_translation,
-                   b.freeze_rotation};
-    const auto [it, added] = index.emplace(key_of(p), static_cast<std::uint32_t>(params_.size()));
-    if (added) params_.push_back(p);
-    params_of_.push_back(it->second);
+    keys.push_back(key_of(params_of(b)));
   }
-  params_.shrink_to_fit();
+  std::vector<std::int32_t> first;
+  intern(keys, params_of_, first);
+  params_.reserve(first.size());
+  for (const std::int32_t f : first)
+    params_.push_back(params_of(bodies[f]));
 }
 
 BodySpec SpecStore::get(int id) const {

@@ -61,10 +61,10 @@ class SpecStore {
   struct Initial {
     double p[3], q[4], v[3], w[3];
   };
-  std::string names_;                     // every name, one after the other
-  std::vector<std::uint64_t> name_end_;   // where body id's name ends in names_
-  std::vector<Initial> initial_;          // by body id
-  std::vector<std::uint32_t> params_of_;  // by body id: its entry in params_
+  std::string names_;                    // every name, one after the other
+  std::vector<std::uint64_t> name_end_;  // where body id's name ends in names_
+  std::vector<Initial> initial_;         // by body id
+  std::vector<std::int32_t> params_of_;  // by body id: its entry in params_
   std::vector<Params> params_;
 };
 

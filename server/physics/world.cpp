@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -10,6 +11,7 @@
 
 #include "physics/hybrid_lanes.hpp"
 #include "physics/inertia.hpp"
+#include "physics/intern.hpp"
 #include "physics/kernels.hpp"
 #include "physics/model.hpp"
 #include "physics/pool.hpp"
@@ -114,14 +116,15 @@ struct World::Impl {
   std::vector<int> by_name;
   // The guard (see World::frozen_bodies): the pose of each body's last state that passed the check
   // (a frozen body is put back there at rest, so its velocities need no copy), and who is frozen
-  // (its translational parameters before the freeze come back from the spec: linear_of).
+  // (with the index of its translational parameters before the freeze: frozen_lin).
   struct Pose {
     Quat q = Quat::Identity();
     Vec3 x = Vec3::Zero();
   };
   std::vector<Pose> last_good;
   std::vector<std::uint8_t> frozen;
-  std::vector<int> frozen_ids;  // capacity reserved: no allocation
+  std::vector<int> frozen_ids;           // capacity reserved: no allocation
+  std::vector<std::int32_t> frozen_lin;  // their Group::lin_of before the freeze (capacity too)
   // Bodies whose loads may have moved them between the quiet and the loaded run of their group
   // (model.hpp), placed at the start of the next step (capacity reserved: no allocation).
   std::vector<int> regroup_ids;
@@ -144,8 +147,6 @@ struct World::Impl {
   } pool;
 
   void compile(const WorldSpec& spec);
-  // The translational parameters of body id as its spec gives them (g, 1/m, drag and its row).
-  Linear linear_of(int id) const;
   const Loads& base_load(int id) const {
     static const Loads kNone{};
     const auto it = std::lower_bound(base_ids.begin(), base_ids.end(), id);
@@ -164,6 +165,7 @@ struct World::Impl {
     const std::size_t n = slot.size();
     pending.reserve(n);
     frozen_ids.reserve(n);
+    frozen_lin.reserve(n);
     regroup_ids.reserve(n);
     for (Group* g : {static_cast<Group*>(&model.point), static_cast<Group*>(&model.iso),
                      static_cast<Group*>(&model.axi), static_cast<Group*>(&model.gen)})
@@ -207,7 +209,7 @@ struct World::Impl {
   detail::LoadsRef load(int id) const { return group(slot[id].model).load(slot[id].index); }
   Loads load_value(int id) const { return group(slot[id].model).load_value(slot[id].index); }
   void set_loads(int id, const Loads& v) { group(slot[id].model).set_load(slot[id].index, v); }
-  const Linear& linear(int id) const { return group(slot[id].model).linear[slot[id].index]; }
+  const Linear& linear(int id) const { return group(slot[id].model).linear(slot[id].index); }
   void invalidate_cache(int id);
   void set_state(int id, const BodyState& s);
   void apply_pending_impulses();
@@ -220,6 +222,29 @@ struct World::Impl {
 };
 
 namespace {
+
+// Translation parameters by their bits, for interning (Group::linears).
+using LinearKey = std::array<std::uint64_t, 8>;
+LinearKey linear_key(const Linear& l) {
+  LinearKey k;
+  for (int a = 0; a < 3; ++a) {
+    k[a] = std::bit_cast<std::uint64_t>(l.g[a]);
+    k[3 + a] = std::bit_cast<std::uint64_t>(l.inv_m[a]);
+  }
+  k[6] = std::bit_cast<std::uint64_t>(l.gamma);
+  k[7] = static_cast<std::uint64_t>(l.drag);
+  return k;
+}
+Linear linear_of_key(const LinearKey& k) {
+  Linear l;
+  for (int a = 0; a < 3; ++a) {
+    l.g[a] = std::bit_cast<double>(k[a]);
+    l.inv_m[a] = std::bit_cast<double>(k[3 + a]);
+  }
+  l.gamma = std::bit_cast<double>(k[6]);
+  l.drag = static_cast<int>(k[7]);
+  return l;
+}
 
 void validate_body(const BodySpec& b, int i) {
   const auto fail = [&](const std::string& field, const std::string& what) {
@@ -322,6 +347,11 @@ void World::Impl::compile(const WorldSpec& spec) {
   pending.clear();  // capacity: reserve_scratch, below
   std::unordered_map<double, int> drag_row{{0.0, 0}};
   std::map<std::array<double, 3>, std::int32_t> rotor_row;  // principal moments -> rotors row
+  // Per model the entries' translation parameters, interned after the loop; each list starts
+  // with the still body's (all zero) so that it becomes entry 0 (Group::linears).
+  std::array<std::vector<LinearKey>, 4> lin_keys;
+  for (auto& k : lin_keys)
+    k.push_back(linear_key(Linear{}));
 
   for (int i = 0; i < n; ++i) {
     const BodySpec& b = spec.bodies[i];
@@ -399,7 +429,7 @@ void World::Impl::compile(const WorldSpec& spec) {
     slot[i] = Slot{kind, g.size()};
     g.id.push_back(i);
     g.motion.emplace_back();
-    g.linear.push_back(lin);
+    lin_keys[static_cast<int>(kind)].push_back(linear_key(lin));
     g.loads.emplace_back();
     switch (kind) {
       case BodyModel::kPoint:
@@ -431,6 +461,15 @@ void World::Impl::compile(const WorldSpec& spec) {
         break;
     }
     set_state(i, BodyState{b.p_WBo, q_WB, b.v_WBo, b.w_WB});
+  }
+  for (int k = 0; k < 4; ++k) {
+    Group& g = group(static_cast<BodyModel>(k));
+    std::vector<std::int32_t> index, first;
+    detail::intern(lin_keys[k], index, first);
+    g.lin_of.assign(index.begin() + 1, index.end());
+    g.linears.clear();
+    for (const std::int32_t f : first)
+      g.linears.push_back(linear_of_key(lin_keys[k][f]));
   }
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
@@ -479,27 +518,12 @@ void World::Impl::compile(const WorldSpec& spec) {
     last_good[i] = {motion(i).q, motion(i).x};
   frozen.assign(n, 0);
   frozen_ids.clear();
+  frozen_lin.clear();
   regroup_flag.assign(n, 0);
   regroup_ids.clear();
   for (int i = 0; i < n; ++i)
     place(i);
   set_threads(spec.threads);
-}
-
-Linear World::Impl::linear_of(int id) const {
-  const detail::SpecStore::Params& b = specs.params(id);
-  Linear lin;
-  if (b.kinematic) return lin;
-  for (int a = 0; a < 3; ++a) {
-    if (b.freeze_translation[a]) continue;
-    lin.inv_m[a] = 1.0 / b.mass;
-    if (b.use_gravity) lin.g[a] = g_W[a];
-  }
-  lin.gamma = b.linear_drag / b.mass;
-  // The row compile() gave this rate: the first with an equal one (rows are distinct rates).
-  const auto& rates = model.trans.gamma;
-  lin.drag = static_cast<int>(std::find(rates.begin(), rates.end(), lin.gamma) - rates.begin());
-  return lin;
 }
 
 void World::Impl::swap_entries(BodyModel kind, int a, int b) {
@@ -508,7 +532,7 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
   Group& g = group(kind);
   sw(g.id);
   sw(g.motion);
-  sw(g.linear);
+  sw(g.lin_of);
   sw(g.loads);
   switch (kind) {
     case BodyModel::kPoint:
@@ -652,11 +676,9 @@ void World::Impl::freeze(int id) {
   m.v.setZero();
   m.spin.setZero();
   const Slot& s = slot[id];
-  Linear& lin = group(s.model).linear[s.index];
-  lin.g.setZero();
-  lin.inv_m.setZero();
-  lin.gamma = 0.0;
-  lin.drag = 0;
+  Group& g = group(s.model);
+  frozen_lin.push_back(g.lin_of[s.index]);  // within the reserved capacity
+  g.lin_of[s.index] = 0;                    // no gravity, no force, no drag
   const bool was_quiet = load(id).quiet();
   set_loads(id, Loads{});
   loads_changed(id, was_quiet);
@@ -670,12 +692,14 @@ void World::Impl::freeze(int id) {
 }
 
 void World::Impl::thaw_all() {
-  for (int id : frozen_ids) {
+  for (std::size_t k = 0; k < frozen_ids.size(); ++k) {
+    const int id = frozen_ids[k];
     const Slot& s = slot[id];
-    group(s.model).linear[s.index] = linear_of(id);
+    group(s.model).lin_of[s.index] = frozen_lin[k];
     frozen[id] = 0;
   }
   frozen_ids.clear();
+  frozen_lin.clear();
 }
 
 void World::Impl::check_id(int id) const {
@@ -742,7 +766,7 @@ void World::Impl::apply_pending_impulses() {
     const Slot& s = slot[id];
     Group& g = group(s.model);
     Motion& m = g.motion[s.index];
-    m.v += g.linear[s.index].inv_m.cwiseProduct(p.J);
+    m.v += g.linear(s.index).inv_m.cwiseProduct(p.J);
     const Vec3 dL_P = m.q.conjugate() * p.L;
     switch (s.model) {
       case BodyModel::kIsotropic:

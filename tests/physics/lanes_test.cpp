@@ -45,6 +45,9 @@ WorldSpec loaded(int n, bool stable = false) {
     // Runs of bodies with and without linear drag (two translation tables' rows; a batch may
     // hold one or both).
     if (i % 16 >= 11) b.linear_drag = 0.3 + 0.1 * (i % 2);
+    // Runs of heavier bodies: batches of one shared translation entry (Group::linears) follow
+    // batches of another, and of several.
+    if (i / 8 % 2 == 1) b.mass = 2.0;
     b.use_gravity = i % 2 == 1;
     b.v_WBo = {e, 1, 0};
     ws.bodies.push_back(b);
