@@ -41,11 +41,11 @@ void put(LaneBatch::L* d, int l, const Vec3& s) {
   d[2][l] = s.z();
 }
 
-// `linear`, `coefs`: copy the translation parameters (g, 1/m), the translation coefficients
-// (false: b holds this lane's already).
+// `linear`, `coefs`, `rot`: copy the translation parameters (g, 1/m), the translation
+// coefficients, the rotational parameters (false: b holds this lane's already).
 template <class G>
 void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool linear, bool coefs,
-            LaneBatch& b) {
+            bool rot, LaneBatch& b) {
   const Motion& mo = g.motion[i];
   b.qw[l] = mo.q.w();
   b.qx[l] = mo.q.x();
@@ -67,9 +67,11 @@ void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool 
     b.q2[k][l] = c.q2;
     b.q3[k][l] = c.q3;
   }
-  const DiagRot& r = g.rot[i];
-  put(b.inv_I, l, r.inv_I);
-  put(b.decay, l, r.drag_rates());
+  if (rot) {
+    const DiagRot& r = g.rot(i);
+    put(b.inv_I, l, r.inv_I);
+    put(b.decay, l, r.drag_rates());
+  }
   const LoadsRef L = g.load(i);
   b.body_force[l] = (L.flags & Loads::kBodyForce) ? -1 : 0;
   b.world_torque[l] = (L.flags & Loads::kWorldTorque) ? -1 : 0;
@@ -109,26 +111,29 @@ void run(G& g, const Model& m, Range r, bool general) {
   const int W = m.lanes;
   // Zero-initialised: the terms a batch does not copy (gather) hold defined values, never read.
   LaneBatch b{};
-  // The drag row (TransTable) whose coefficients every lane of b holds, and the shared entry
-  // (Group::linears) whose parameters every lane holds, -1 if none: most worlds have one drag
+  // The drag row (TransTable) whose coefficients every lane of b holds, and the shared entries
+  // (model.hpp: Shared) whose parameters every lane holds, -1 if none: most worlds have one drag
   // rate and a few kinds of body, so the batches after the first need not copy them again.
-  int coef_row = -1, lin_entry = -1;
+  int coef_row = -1, lin_entry = -1, rot_entry = -1;
   for (int i = r.begin; i < r.end; i += W) {
     const int n = r.end - i < W ? r.end - i : W;
     std::uint32_t flags = 0;
-    int row = g.linear(i).drag, entry = g.lin_of[i];
+    int row = g.linear(i).drag, entry = g.linear.of[i], rentry = g.rot.of[i];
     for (int l = 0; l < n; ++l) {
       flags |= g.loads[i + l].flags;
       if (g.linear(i + l).drag != row) row = -1;
-      if (g.lin_of[i + l] != entry) entry = -1;
+      if (g.linear.of[i + l] != entry) entry = -1;
+      if (g.rot.of[i + l] != rentry) rentry = -1;
     }
     const bool coefs = row < 0 || row != coef_row;
     const bool linear = entry < 0 || entry != lin_entry;
+    const bool rot = rentry < 0 || rentry != rot_entry;
     coef_row = row;
     lin_entry = entry;
+    rot_entry = rentry;
     // Lanes past the run's end repeat its first body of this batch and are never written back.
     for (int l = 0; l < W; ++l)
-      gather(g, m, l < n ? i + l : i, l, flags, linear, coefs, b);
+      gather(g, m, l < n ? i + l : i, l, flags, linear, coefs, rot, b);
     switch (W) {
       case 8:
         lanes8::step(b, st);

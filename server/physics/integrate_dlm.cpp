@@ -41,19 +41,19 @@ void dlm_group(G& g, const Model& m, Share& sh) {
     const TransCoef& half = m.tc(lin, kHalf);
     Vec3 rate = Vec3::Zero();
     if constexpr (kRotates) {
-      rate = g.rot[i].drag_rates();
-      sh.note_rotation(m.dt, g.rot[i].omega(s.spin));
+      rate = g.rot(i).drag_rates();
+      sh.note_rotation(m.dt, g.rot(i).omega(s.spin));
     }
     const auto kick_all = [&] {
       kick(half, lin.accel(L.force_W(s.q)), s.v);
       if constexpr (kRotates) {
-        kick_angular(g.rot[i].spin_rate(L.torque_P(s.q)), rate, 0.5 * h, s.spin);
+        kick_angular(g.rot(i).spin_rate(L.torque_P(s.q)), rate, 0.5 * h, s.spin);
       }
     };
     kick_all();
     s.x += h * s.v;
     if constexpr (kRotates) {
-      const auto& rot = g.rot[i];
+      const auto& rot = g.rot(i);
       if constexpr (std::is_same_v<std::decay_t<decltype(rot)>, DiagRot>) {
         axis_rotation(0, 0.5 * h, rot.inv_I, s.spin, s.q);
         axis_rotation(1, 0.5 * h, rot.inv_I, s.spin, s.q);

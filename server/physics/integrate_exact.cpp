@@ -28,7 +28,7 @@ inline void drift(IsoGroup& g, int i, double s) {
 }
 inline void drift(AxiGroup& g, int i, double s) {
   Motion& b = g.motion[i];
-  const DiagRot& r = g.rot[i];
+  const DiagRot& r = g.rot(i);
   AxisymPlan p;
   make_axisym_plan(r.I.x(), r.I.z(), b.spin, s, p);
   Quat dq;
@@ -56,7 +56,7 @@ inline void drift_cached(IsoGroup& g, int i, double h) {
 }
 inline void drift_cached(AxiGroup& g, int i, double h) {
   Motion& b = g.motion[i];
-  const DiagRot& r = g.rot[i];
+  const DiagRot& r = g.rot(i);
   if (!g.plan_ok[i]) {
     make_axisym_plan(r.I.x(), r.I.z(), b.spin, h, g.plan[i]);
     g.plan_ok[i] = 1;
@@ -162,7 +162,7 @@ inline void compose_loaded(G& g, const Model& m, int i, Drift&& drift) {
   Motion& b = g.motion[i];
   const Linear& lin = g.linear(i);
   const LoadsRef L = g.load(i);
-  const auto& rot = g.rot[i];
+  const auto& rot = g.rot(i);
   const Vec3 rates = rot.drag_rates();
   Vec3 a0 = lin.accel(L.force_W(b.q));
   Vec3 rate = rot.spin_rate(L.torque_P(b.q));
@@ -254,7 +254,7 @@ inline void axisym_turn(double a, double c, double s, Vec3& m, Quat& q) {
 // symmetric, second order in s, and exact for an axisymmetric body.
 inline void split_drift(GenGroup& g, int i, double s) {
   Motion& b = g.motion[i];
-  const Vec3& a = g.rot[i].inv_I;
+  const Vec3& a = g.rot(i).inv_I;
   const double d1 = a.x() - a.y();
   axis_turn(0, d1, 0.5 * s, b.spin, b.q);
   axisym_turn(a.y(), a.z(), s, b.spin, b.q);
@@ -263,7 +263,7 @@ inline void split_drift(GenGroup& g, int i, double s) {
 }
 inline void fast_drift(AxiGroup& g, int i, double s) {
   Motion& b = g.motion[i];
-  axisym_turn(g.rot[i].inv_I.x(), g.rot[i].inv_I.z(), s, b.spin, b.q);
+  axisym_turn(g.rot(i).inv_I.x(), g.rot(i).inv_I.z(), s, b.spin, b.q);
   renormalize(b.q);
 }
 inline void fast_drift(IsoGroup& g, int i, double s) {

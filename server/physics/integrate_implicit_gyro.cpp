@@ -27,7 +27,7 @@ void implicit_gyro_group(G& g, const Model& m, Share& sh) {
     kick(k, lin.accel(L.force_W(s.q)), s.v);
     s.x += h * s.v;
     if constexpr (kRotates) {
-      const auto& rot = g.rot[i];
+      const auto& rot = g.rot(i);
       using Rot = std::decay_t<decltype(rot)>;
       sh.note_rotation(m.dt, rot.omega(s.spin));
       kick_angular(rot.spin_rate(L.torque_P(s.q)), rot.drag_rates(), h, s.spin);

@@ -40,7 +40,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     const auto alpha_W = [&](const Quat& q, const Vec3& w_W) {
       if constexpr (kRotates) {
         if (!torqued) return Vec3(Vec3::Zero());
-        const auto& rot = g.rot[i];
+        const auto& rot = g.rot(i);
         const Vec3 w_P = q.conjugate() * w_W;
         return Vec3(q * rot.omega(rot.spin_rate(L.torque_P(q) - rot.k * w_P)));
       } else {
@@ -51,7 +51,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     const Quat q0 = s.q;
     Vec3 w0 = Vec3::Zero();  // world frame, the notes' state
     if constexpr (kRotates) {
-      w0 = q0 * g.rot[i].omega(s.spin);
+      w0 = q0 * g.rot(i).omega(s.spin);
       sh.note_rotation(m.dt, w0);
     }
     Quat q1 = q0;
@@ -108,7 +108,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
         s.x += h * vh;
         s.v = (vh + 0.5 * h * lin.accel(L.force_W(q1))) / (1.0 + 0.5 * h * lin.gamma);
         if constexpr (kRotates) {
-          const auto& rot = g.rot[i];
+          const auto& rot = g.rot(i);
           const Vec3 w_P = q1.conjugate() * wh + 0.5 * h * rot.omega(rot.spin_rate(L.torque_P(q1)));
           w1 = q1 * w_P.cwiseQuotient(Vec3::Ones() + 0.5 * h * rot.drag_rates());
         }
@@ -119,7 +119,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     }
     if constexpr (kRotates) {
       s.q = q1;
-      s.spin = g.rot[i].spin_of(q1.conjugate() * w1);
+      s.spin = g.rot(i).spin_of(q1.conjugate() * w1);
     }
   }
 }

@@ -39,7 +39,7 @@ void rk4_group(G& g, const Model& m, Share& sh) {
       d.dx = y.v;
       d.dv = lin.accel(L.force_W(qn)) - lin.gamma * y.v;
       if constexpr (kRotates) {
-        const auto& rot = g.rot[i];
+        const auto& rot = g.rot(i);
         const Vec3 w = rot.omega(y.spin);
         Vec3 tau = L.torque_P(qn) - rot.k * w;
         if constexpr (kGyroscopic<std::decay_t<decltype(rot)>>) tau -= w.cross(y.spin);
@@ -59,7 +59,7 @@ void rk4_group(G& g, const Model& m, Share& sh) {
       y.q.coeffs() = s.q.coeffs() + c * d.dq;
       return y;
     };
-    if constexpr (kRotates) sh.note_rotation(m.dt, g.rot[i].omega(s.spin));
+    if constexpr (kRotates) sh.note_rotation(m.dt, g.rot(i).omega(s.spin));
     const Deriv k1 = f(s);
     const Deriv k2 = f(add(k1, 0.5 * h));
     const Deriv k3 = f(add(k2, 0.5 * h));

@@ -83,6 +83,17 @@ struct DiagRot {
   Vec3 drag_rates() const { return k * inv_I; }
 };
 
+// Per-body parameters that bodies with equal ones share (World interns them when it is built): a
+// 4 B index a body instead of the value (a Linear is 64 B, a DiagRot 56); a world of 10^6 bodies
+// usually has a handful of kinds. shared(i) is entry i's value; `of` moves with the entry when
+// the runs regroup.
+template <class T>
+struct Shared {
+  std::vector<std::int32_t> of;  // per entry
+  std::vector<T> values;
+  const T& operator()(int i) const { return values[of[i]]; }
+};
+
 // The bodies of one model, structure of arrays over bodies. The entries are kept in two runs:
 // [0, quiet_end) the bodies whose loads leave them quiet (Loads::quiet(): nothing turns them), then
 // the loaded ones. A body moves between the runs (World::Impl::regroup, a swap with the boundary
@@ -92,12 +103,9 @@ struct Group {
   int quiet_end = 0;
   std::vector<int> id;  // body id of each entry
   std::vector<Motion> motion;
-  // Translation parameters, which entries with equal ones share (World interns them when it is
-  // built: 4 B a body instead of 64): per entry its index in `linears`, whose entry 0 is all zero,
-  // a still body's (the guard's frozen bodies point there).
-  std::vector<std::int32_t> lin_of;
-  std::vector<Linear> linears{Linear{}};
-  const Linear& linear(int i) const { return linears[lin_of[i]]; }
+  // Translation parameters, shared (entry 0 all zero: a still body's, where the guard's frozen
+  // bodies point).
+  Shared<Linear> linear;
   // Spec loads + applied loads, in P (loads.hpp: LoadHead): per entry the head, and the terms of
   // the entries that have any in a pool, entry 0 all zero. The pool's capacity is reserved for
   // every body when the world is built (reserve_terms), so that giving a body terms while stepping
@@ -164,7 +172,7 @@ struct PointGroup : Group {
 
 struct IsoGroup : Group {
   static constexpr int kIndex = 1;
-  std::vector<IsoRot> rot;
+  Shared<IsoRot> rot;
   // Exact-rotation cache: exp(h w) for the current w, valid while no torque or impulse changes w.
   std::vector<Quat> dq;
   std::vector<std::uint8_t> dq_ok;
@@ -172,7 +180,7 @@ struct IsoGroup : Group {
 
 struct AxiGroup : Group {
   static constexpr int kIndex = 2;
-  std::vector<DiagRot> rot;
+  Shared<DiagRot> rot;
   std::vector<AxisymPlan> plan;
   std::vector<std::uint8_t> plan_ok;
   // Cold, read only at the API's edges: the rotation from P to B. Kept per entry (it moves with
@@ -182,7 +190,7 @@ struct AxiGroup : Group {
 
 struct GenGroup : Group {
   static constexpr int kIndex = 3;
-  std::vector<DiagRot> rot;
+  Shared<DiagRot> rot;
   // The exact rotor's constants depend on the principal moments alone and are read only when a
   // plan is made: bodies with the same moments share one (rotors), each entry keeps its index.
   // A world of one kind of body pays 4 B a body instead of 144; one of all-different bodies 148.
@@ -266,10 +274,10 @@ class LinearCursor {
  public:
   LinearCursor(const Group& g, const Model& m, TransSize size) : g_(g), m_(m), size_(size) {}
   void at(int i) {
-    const int k = g_.lin_of[i];
+    const int k = g_.linear.of[i];
     if (k == k_) return;
     k_ = k;
-    lin_ = g_.linears[k];
+    lin_ = g_.linear.values[k];
     tc_ = m_.tc(lin_, size_);
   }
   const Linear& lin() const { return lin_; }

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -124,7 +125,7 @@ struct World::Impl {
   std::vector<Pose> last_good;
   std::vector<std::uint8_t> frozen;
   std::vector<int> frozen_ids;           // capacity reserved: no allocation
-  std::vector<std::int32_t> frozen_lin;  // their Group::lin_of before the freeze (capacity too)
+  std::vector<std::int32_t> frozen_lin;  // their Group::linear.of before the freeze (capacity too)
   // Bodies whose loads may have moved them between the quiet and the loaded run of their group
   // (model.hpp), placed at the start of the next step (capacity reserved: no allocation).
   std::vector<int> regroup_ids;
@@ -223,27 +224,40 @@ struct World::Impl {
 
 namespace {
 
-// Translation parameters by their bits, for interning (Group::linears).
-using LinearKey = std::array<std::uint64_t, 8>;
-LinearKey linear_key(const Linear& l) {
-  LinearKey k;
-  for (int a = 0; a < 3; ++a) {
-    k[a] = std::bit_cast<std::uint64_t>(l.g[a]);
-    k[3 + a] = std::bit_cast<std::uint64_t>(l.inv_m[a]);
-  }
-  k[6] = std::bit_cast<std::uint64_t>(l.gamma);
-  k[7] = static_cast<std::uint64_t>(l.drag);
+// A value's doubles by their bits, for interning: equal keys, equal bits.
+using Key = std::array<std::uint64_t, 8>;
+Key key_of(std::initializer_list<double> xs) {
+  Key k{};
+  std::size_t n = 0;
+  for (const double x : xs)
+    k[n++] = std::bit_cast<std::uint64_t>(x);
   return k;
 }
-Linear linear_of_key(const LinearKey& k) {
-  Linear l;
-  for (int a = 0; a < 3; ++a) {
-    l.g[a] = std::bit_cast<double>(k[a]);
-    l.inv_m[a] = std::bit_cast<double>(k[3 + a]);
-  }
-  l.gamma = std::bit_cast<double>(k[6]);
-  l.drag = static_cast<int>(k[7]);
-  return l;
+Key key_of(const Linear& l) {
+  return key_of({l.g.x(), l.g.y(), l.g.z(), l.inv_m.x(), l.inv_m.y(), l.inv_m.z(), l.gamma,
+                 static_cast<double>(l.drag)});
+}
+Key key_of(const IsoRot& r) {
+  return key_of({r.inv_I, r.k, r.axis.x(), r.axis.y(), r.axis.z(), r.hinge});
+}
+Key key_of(const DiagRot& r) {
+  return key_of({r.I.x(), r.I.y(), r.I.z(), r.inv_I.x(), r.inv_I.y(), r.inv_I.z(), r.k});
+}
+
+// out: each of `values` shared, in order of first appearance; the first `skip` values (entries
+// that must exist whatever the bodies) are kept but own no entry.
+template <class T>
+void share(const std::vector<T>& values, std::size_t skip, detail::Shared<T>& out) {
+  std::vector<Key> keys;
+  keys.reserve(values.size());
+  for (const T& v : values)
+    keys.push_back(key_of(v));
+  std::vector<std::int32_t> index, first;
+  detail::intern(keys, index, first);
+  out.of.assign(index.begin() + static_cast<std::ptrdiff_t>(skip), index.end());
+  out.values.clear();
+  for (const std::int32_t f : first)
+    out.values.push_back(values[f]);
 }
 
 void validate_body(const BodySpec& b, int i) {
@@ -347,11 +361,13 @@ void World::Impl::compile(const WorldSpec& spec) {
   pending.clear();  // capacity: reserve_scratch, below
   std::unordered_map<double, int> drag_row{{0.0, 0}};
   std::map<std::array<double, 3>, std::int32_t> rotor_row;  // principal moments -> rotors row
-  // Per model the entries' translation parameters, interned after the loop; each list starts
-  // with the still body's (all zero) so that it becomes entry 0 (Group::linears).
-  std::array<std::vector<LinearKey>, 4> lin_keys;
-  for (auto& k : lin_keys)
-    k.push_back(linear_key(Linear{}));
+  // Per model the entries' shared parameters, interned after the loop. The translation lists
+  // start with the still body's (all zero), which so becomes entry 0 (Group::linear).
+  std::array<std::vector<Linear>, 4> linears;
+  for (auto& l : linears)
+    l.push_back(Linear{});
+  std::vector<IsoRot> iso_rots;
+  std::array<std::vector<DiagRot>, 2> diag_rots;  // axisymmetric, general
 
   for (int i = 0; i < n; ++i) {
     const BodySpec& b = spec.bodies[i];
@@ -429,24 +445,24 @@ void World::Impl::compile(const WorldSpec& spec) {
     slot[i] = Slot{kind, g.size()};
     g.id.push_back(i);
     g.motion.emplace_back();
-    lin_keys[static_cast<int>(kind)].push_back(linear_key(lin));
+    linears[static_cast<int>(kind)].push_back(lin);
     g.loads.emplace_back();
     switch (kind) {
       case BodyModel::kPoint:
         break;
       case BodyModel::kIsotropic:
-        model.iso.rot.push_back(iso);
+        iso_rots.push_back(iso);
         model.iso.dq.emplace_back(Quat::Identity());
         model.iso.dq_ok.push_back(0);
         break;
       case BodyModel::kAxisymmetric:
-        model.axi.rot.push_back(diag);
+        diag_rots[0].push_back(diag);
         model.axi.plan.emplace_back();
         model.axi.plan_ok.push_back(0);
         model.axi.q_BP.push_back(q_BP);
         break;
       case BodyModel::kGeneral:
-        model.gen.rot.push_back(diag);
+        diag_rots[1].push_back(diag);
         {
           const std::array<double, 3> key{diag.I.x(), diag.I.y(), diag.I.z()};
           auto [it, added] =
@@ -460,16 +476,15 @@ void World::Impl::compile(const WorldSpec& spec) {
         model.gen.q_BP.push_back(q_BP);
         break;
     }
-    set_state(i, BodyState{b.p_WBo, q_WB, b.v_WBo, b.w_WB});
   }
-  for (int k = 0; k < 4; ++k) {
-    Group& g = group(static_cast<BodyModel>(k));
-    std::vector<std::int32_t> index, first;
-    detail::intern(lin_keys[k], index, first);
-    g.lin_of.assign(index.begin() + 1, index.end());
-    g.linears.clear();
-    for (const std::int32_t f : first)
-      g.linears.push_back(linear_of_key(lin_keys[k][f]));
+  for (int k = 0; k < 4; ++k)
+    share(linears[k], 1, group(static_cast<BodyModel>(k)).linear);
+  share(iso_rots, 0, model.iso.rot);
+  share(diag_rots[0], 0, model.axi.rot);
+  share(diag_rots[1], 0, model.gen.rot);
+  for (int i = 0; i < n; ++i) {
+    const detail::SpecStore& b = specs;
+    set_state(i, BodyState{b.p_WBo(i), b.q_WB(i), b.v_WBo(i), b.w_WB(i)});
   }
   model.trans.coef.resize(model.trans.gamma.size());
   detail::build_trans_table(model);
@@ -532,19 +547,19 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
   Group& g = group(kind);
   sw(g.id);
   sw(g.motion);
-  sw(g.lin_of);
+  sw(g.linear.of);
   sw(g.loads);
   switch (kind) {
     case BodyModel::kPoint:
       break;
     case BodyModel::kIsotropic:
-      sw(model.iso.rot), sw(model.iso.dq), sw(model.iso.dq_ok);
+      sw(model.iso.rot.of), sw(model.iso.dq), sw(model.iso.dq_ok);
       break;
     case BodyModel::kAxisymmetric:
-      sw(model.axi.rot), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
+      sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
       break;
     case BodyModel::kGeneral:
-      sw(model.gen.rot), sw(model.gen.rotor), sw(model.gen.plan_ok);
+      sw(model.gen.rot.of), sw(model.gen.rotor), sw(model.gen.plan_ok);
       model.gen.plan.swap(a, b);
       sw(model.gen.axis), sw(model.gen.q_BP);
       break;
@@ -677,8 +692,8 @@ void World::Impl::freeze(int id) {
   m.spin.setZero();
   const Slot& s = slot[id];
   Group& g = group(s.model);
-  frozen_lin.push_back(g.lin_of[s.index]);  // within the reserved capacity
-  g.lin_of[s.index] = 0;                    // no gravity, no force, no drag
+  frozen_lin.push_back(g.linear.of[s.index]);  // within the reserved capacity
+  g.linear.of[s.index] = 0;                    // no gravity, no force, no drag
   const bool was_quiet = load(id).quiet();
   set_loads(id, Loads{});
   loads_changed(id, was_quiet);
@@ -695,7 +710,7 @@ void World::Impl::thaw_all() {
   for (std::size_t k = 0; k < frozen_ids.size(); ++k) {
     const int id = frozen_ids[k];
     const Slot& s = slot[id];
-    group(s.model).lin_of[s.index] = frozen_lin[k];
+    group(s.model).linear.of[s.index] = frozen_lin[k];
     frozen[id] = 0;
   }
   frozen_ids.clear();
@@ -743,15 +758,15 @@ void World::Impl::set_state(int id, const BodyState& st) {
     const Vec3 w_P = m.q.conjugate() * st.w_WB;
     switch (s.model) {
       case BodyModel::kIsotropic: {
-        const IsoRot& r = model.iso.rot[s.index];
+        const IsoRot& r = model.iso.rot(s.index);
         m.spin = r.hinge != 0.0 ? Vec3(r.axis * r.axis.dot(w_P)) : w_P;
         break;
       }
       case BodyModel::kAxisymmetric:
-        m.spin = model.axi.rot[s.index].spin_of(w_P);
+        m.spin = model.axi.rot(s.index).spin_of(w_P);
         break;
       case BodyModel::kGeneral:
-        m.spin = model.gen.rot[s.index].spin_of(w_P);
+        m.spin = model.gen.rot(s.index).spin_of(w_P);
         break;
       case BodyModel::kPoint:
         break;
@@ -770,13 +785,13 @@ void World::Impl::apply_pending_impulses() {
     const Vec3 dL_P = m.q.conjugate() * p.L;
     switch (s.model) {
       case BodyModel::kIsotropic:
-        m.spin += model.iso.rot[s.index].spin_rate(dL_P);
+        m.spin += model.iso.rot(s.index).spin_rate(dL_P);
         break;
       case BodyModel::kAxisymmetric:
-        m.spin += model.axi.rot[s.index].spin_rate(dL_P);
+        m.spin += model.axi.rot(s.index).spin_rate(dL_P);
         break;
       case BodyModel::kGeneral:
-        m.spin += model.gen.rot[s.index].spin_rate(dL_P);
+        m.spin += model.gen.rot(s.index).spin_rate(dL_P);
         break;
       case BodyModel::kPoint:
         break;
@@ -794,7 +809,7 @@ Vec3 World::Impl::angular_momentum_P(int id) const {
     case BodyModel::kPoint:
       return Vec3::Zero();
     case BodyModel::kIsotropic: {
-      const IsoRot& r = model.iso.rot[s.index];
+      const IsoRot& r = model.iso.rot(s.index);
       // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
       if (r.inv_I == 0.0) return specs.params(id).I_B * m.spin;
       return m.spin / r.inv_I;
@@ -813,11 +828,11 @@ Vec3 World::Impl::omega_P(int id) const {
     case BodyModel::kPoint:
       return Vec3::Zero();
     case BodyModel::kIsotropic:
-      return model.iso.rot[s.index].omega(m.spin);
+      return model.iso.rot(s.index).omega(m.spin);
     case BodyModel::kAxisymmetric:
-      return model.axi.rot[s.index].omega(m.spin);
+      return model.axi.rot(s.index).omega(m.spin);
     case BodyModel::kGeneral:
-      return model.gen.rot[s.index].omega(m.spin);
+      return model.gen.rot(s.index).omega(m.spin);
   }
   return Vec3::Zero();
 }
@@ -943,14 +958,14 @@ Vec3 World::principal_moments(int id) const {
     case BodyModel::kPoint:
       break;
     case BodyModel::kIsotropic: {
-      const double inv_I = w.model.iso.rot[s.index].inv_I;
+      const double inv_I = w.model.iso.rot(s.index).inv_I;
       return inv_I > 0 ? Vec3::Constant(1.0 / inv_I)
                        : principal_inertia(w.specs.params(id).I_B).moments;
     }
     case BodyModel::kAxisymmetric:
-      return w.model.axi.rot[s.index].I;
+      return w.model.axi.rot(s.index).I;
     case BodyModel::kGeneral:
-      return w.model.gen.rot[s.index].I;
+      return w.model.gen.rot(s.index).I;
   }
   return Vec3::Zero();
 }
@@ -997,12 +1012,12 @@ void World::write_states(const StateRows& rows) const {
   const IsoGroup& iso = w.model.iso;
   for (int k = 0; k < iso.size(); ++k) {
     const Motion& m = iso.motion[k];
-    put(iso.id[k], m, m.q * Quat::Identity().conjugate(), m.q * iso.rot[k].omega(m.spin));
+    put(iso.id[k], m, m.q * Quat::Identity().conjugate(), m.q * iso.rot(k).omega(m.spin));
   }
   const auto rotated = [&](const auto& g) {
     for (int k = 0; k < g.size(); ++k) {
       const Motion& m = g.motion[k];
-      put(g.id[k], m, m.q * g.q_BP[k].conjugate(), m.q * g.rot[k].omega(m.spin));
+      put(g.id[k], m, m.q * g.q_BP[k].conjugate(), m.q * g.rot(k).omega(m.spin));
     }
   };
   rotated(w.model.axi);

@@ -37,7 +37,10 @@ WorldSpec loaded(int n, bool stable = false) {
   ws.g_W = {0, 0, -9.81};
   for (int i = 0; i < n; ++i) {
     const double e = 1e-2 * (i % 13);
-    const Vec3 I = i % 2 == 0 ? Vec3(1, 2 + e, 3) : Vec3(1, 1, 0.4 + e);
+    // Moments in runs, so that batches of one shared rotational entry (model.hpp: Shared)
+    // follow batches of another, and of several.
+    const double eI = 1e-2 * (i / 8 % 3);
+    const Vec3 I = i % 2 == 0 ? Vec3(1, 2 + eI, 3) : Vec3(1, 1, 0.4 + eI);
     const double spin = i % 5 == 2 ? 300.0 : 5.0;
     const Vec3 w = stable ? Vec3(0.1 - e, 0.3 + e, spin) : Vec3(0.3 + e, spin, 0.1 - e);
     BodySpec b = body("b" + std::to_string(i), I, w);
