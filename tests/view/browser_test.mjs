@@ -11,10 +11,12 @@
 // (view_send_torque): a torque arrow about R_WB tau_B through the body's origin, turning by the
 // right-hand rule, drawn with exactly the states the wrench's ticks produced and gone after its
 // ttl. Screenshot: OUTDIR/rigid-view.png.
-// A large scene (view_many.pbtxt beside SCENE: more than the page's kManyBodies, drawn as merged
-// geometry posed in the vertex shader): every body drawn, the pose the shader gets for the spinning
-// probe equal to the state rigidd published (float32), the probe's colour on the screen where its
-// published pose projects and the background where no body is, and hover picking the probe.
+// A large scene (view_many.pbtxt beside SCENE: more than the page's kManyBodies, drawn as ray-cast
+// impostors posed in the vertex shader): every body drawn, the pose the shader gets for the
+// spinning probe equal to the state rigidd published (float32), the probe's colour on the screen
+// where its published pose projects and the background where no body is, its drawn silhouette
+// the true box's (the page's exact CPU ray cast against the pixels around it), and hover picking
+// the probe.
 // usage: node browser_test.mjs RIGIDD RIGID_VIEW RIGIDCTL SCENE OUTDIR SEND_TORQUE
 import { mkdtempSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -46,10 +48,10 @@ async function manyBodies() {
   await page.goto(url);
   const rv = (expr) => page.evaluate(expr);
   await until('the large scene and states', () => rv('window.rigidView.bodies.length === 300 && window.rigidView.frames > 5'), 40000);
-  // Every body drawn, by one merged mesh per shape group: sphere (with the ellipsoids), box,
+  // Every body drawn, by one draw of impostors per shape group: sphere (with the ellipsoids), box,
   // cylinder, capsule, box of moments.
   const inst = await rv('window.rigidView.instances()');
-  if (inst.path !== 'merged' || inst.count !== 300 || inst.meshes !== 5) throw new Error(`large scene drawn as ${JSON.stringify(inst)}`);
+  if (inst.path !== 'impostors' || inst.count !== 300 || inst.meshes !== 5) throw new Error(`large scene drawn as ${JSON.stringify(inst)}`);
   const reply = await page.evaluate(() => new Promise((resolve) => {
     const before = window.rigidView.replies.length;
     window.rigidView.control('pause');
@@ -102,6 +104,43 @@ async function manyBodies() {
   if (!(probe[2] > probe[0] + 40 && probe[1] > probe[0] + 20)) throw new Error(`not the probe's colour where it is drawn: ${probe}`);
   if (!(Math.abs(empty[2] - empty[0]) < 20 && Math.abs(empty[1] - empty[0]) < 20))
     throw new Error(`colour where no body is (0.5 m above the probe): ${empty}`);
+  // The impostor draws the probe's true box, not the quad around it: on a grid of points around
+  // its centre, the pixel has the probe's colour exactly where the page's exact ray cast on the CPU
+  // (pickBodies: the box in B) hits the probe, and not where it hits nothing (background, grid or
+  // world axes there). Points within kEdge CSS px of an edge (where a neighbour's answer differs;
+  // two rendered pixels more at a lower render scale) are skipped, as are points where the ray hits
+  // another body.
+  const silhouette = await page.evaluate(([cx, cy]) => new Promise((resolve) => requestAnimationFrame(() => {
+    const kEdge = Math.ceil(2 + 2 / window.rigidView.renderScale()), kStep = 2, kReach = 80;
+    const canvas = document.querySelector('#view canvas');
+    const r = canvas.getBoundingClientRect();
+    const c = document.createElement('canvas');
+    c.width = canvas.width;
+    c.height = canvas.height;
+    const g = c.getContext('2d');
+    g.drawImage(canvas, 0, 0);
+    const s = canvas.width / r.width;
+    const out = { probe: 0, empty: 0, wrong: [] };
+    for (let y = cy - kReach; y <= cy + kReach; y += kStep) {
+      for (let x = cx - kReach; x <= cx + kReach; x += kStep) {
+        const at = window.rigidView.bodyAt(x, y);
+        if (at !== 'probe' && at !== null) continue;
+        const around = [[kEdge, 0], [-kEdge, 0], [0, kEdge], [0, -kEdge], [kEdge, kEdge], [-kEdge, -kEdge],
+                        [kEdge, -kEdge], [-kEdge, kEdge]];
+        if (around.some(([dx, dy]) => window.rigidView.bodyAt(x + dx, y + dy) !== at)) continue;
+        const [pr, pg, pb] = g.getImageData(Math.round((x - r.left) * s), Math.round((y - r.top) * s), 1, 1).data;
+        // Light blue, lit or in shade (its red more than a seventh of its blue; the world's z
+        // axis, light blue too, has none).
+        const probeColour = pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb;
+        if (probeColour !== (at === 'probe')) out.wrong.push({ x, y, at, pixel: [pr, pg, pb] });
+        out[at === 'probe' ? 'probe' : 'empty'] += 1;
+      }
+    }
+    resolve(out);
+  })), [at.x, at.y]);
+  console.log(`large scene: probe silhouette: ${silhouette.probe} points on the probe, ${silhouette.empty} around it, ${silhouette.wrong.length} wrong`);
+  if (silhouette.probe < 20 || silhouette.empty < 20) throw new Error(`too few points checked around the probe: ${JSON.stringify(silhouette)}`);
+  if (silhouette.wrong.length) throw new Error(`the probe's drawn silhouette differs from its box: ${JSON.stringify(silhouette.wrong.slice(0, 10))}`);
   // Picking without instanced meshes (the bodies' own shapes from the poses): hover the probe.
   await page.mouse.move(at.x, at.y);
   await until('the probe under the pointer in the large scene', () => rv('window.rigidView.hovered() === "probe"'), 3000);

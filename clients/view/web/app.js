@@ -17,16 +17,18 @@ const kBytesPerBody = 13 * 8 + 4;
 const $ = (id) => document.getElementById(id);
 
 // Scenes of more than kManyBodies bodies are drawn for speed: without multisampling, with Lambert
-// instead of physically based shading and with fewer triangles per body. Measured in headless
-// Chromium's software renderer (bench/view/README.md), 10^3 bodies: multisampling halves the frame
-// rate, PBR shading costs a third, spheres of 16x8 segments instead of 8x4 half of it again.
-// They are also drawn without instancing (merged_bodies.js): SwiftShader's cost is per instance.
+// instead of physically based shading, each body as one ray-cast quad (ImpostorBodies, below)
+// instead of an instanced mesh. Measured in headless Chromium's software renderer
+// (bench/view/README.md), 10^3 bodies: multisampling halves the frame rate, PBR shading costs a
+// third; SwiftShader's cost is per instance, that of one merged mesh per vertex, an impostor's
+// (4 vertices) mostly per pixel.
 const kManyBodies = 256;
 // The render scale (a fraction of devicePixelRatio): lowered while the page draws fewer than
 // kSlowFps frames a second, raised again after kRaiseAfter seconds at kFastFps or more. Measured
 // in headless Chromium's software renderer (bench/view/README.md): half the resolution draws 10^3
-// bodies 1.5x as fast (the rasterizer's cost is per pixel there) and 10^4 1.3x.
-const kScaleMin = 0.5, kScaleStep = 0.75, kSlowFps = 50, kFastFps = 57, kRaiseAfter = 10;
+// bodies 1.5x as fast (the rasterizer's cost is per pixel there); impostors' cost is mostly per
+// pixel: 10^4 draw 1.5x as fast at a quarter of the resolution as at half (meshes: 1.1-1.3x).
+const kScaleMin = 0.25, kScaleStep = 0.75, kSlowFps = 50, kFastFps = 57, kRaiseAfter = 10;
 let renderScale = 1;
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
@@ -68,8 +70,7 @@ scene.add(sun);
 // Bodies are drawn with one mesh per shape (geometryKey): a scene of 10^4 spheres of any sizes is
 // one draw call. Small scenes: a THREE.InstancedMesh, each body an instance whose matrix is its
 // pose from the state frame times its shape's scale and frame in B. Scenes of more than
-// kManyBodies bodies: MergedBodies (below), every body's vertices in one buffer, posed in the
-// vertex shader.
+// kManyBodies bodies: ImpostorBodies (below), every body one quad, posed and ray-cast on the GPU.
 // id -> { id, name, shape, index (scene order), group, instance (small scenes), mass, inertia,
 //        radius, shape4 (the unit geometry's scale and frame in B), unit (large scenes: the unit
 //        shape picked against), p (p_WBo), q (q_WB), v (v_WBo in W), w (w_WB in W), placed }
@@ -78,18 +79,18 @@ let bodyList = [];         // in scene order
 const bodyGroup = new THREE.Group();
 scene.add(bodyGroup);
 const instanced = [];      // { mesh, ids: Int32Array (instance -> body id) }
-let merged = null;         // MergedBodies, for scenes of more than kManyBodies bodies
+let impostors = null;      // ImpostorBodies, for scenes of more than kManyBodies bodies
 const debug = {
   connected: false, readOnly: false, connection: 0, scene: null, bodies: [], stats: null,
   frames: 0, lastState: null, replies: [], errors: [], pushes: 0,
   // The pose drawn for a body: position and orientation (w, x, y, z), and the tick it came from.
   renderedPose(name) {
     // (Small scenes: the pose handed to three.js, in double precision; the GPU gets it as float32.
-    // Large scenes: the float32 pose in the texture the vertex shader reads, merged_bodies.js.)
+    // Large scenes: the float32 pose in the texture the impostors' vertex shader reads.)
     for (const b of bodies.values()) {
       if (b.name !== name || !b.placed) continue;
-      if (merged) {
-        const drawn = merged.pose(b.index);
+      if (impostors) {
+        const drawn = impostors.pose(b.index);
         return drawn && { tick: debug.lastState ? debug.lastState.tick : -1, ...drawn };
       }
       const p = b.p, q = b.q;
@@ -112,6 +113,12 @@ const debug = {
   drift(name) {
     const b = bodyList.find((x) => x.name === name);
     return b ? drift.worst(b.index) : null;
+  },
+  // The body that picking finds at a point of the page (CSS pixels), by name, or null.
+  bodyAt(x, y) {
+    setPointer({ clientX: x, clientY: y });
+    const h = pick();
+    return h ? h.body.name : null;
   },
   // The body whose axes are drawn (under the pointer), the followed camera target.
   hovered() { return hoverAxes.visible && hovered ? hovered.name : null; },
@@ -136,9 +143,9 @@ const debug = {
              of: selected ? selected.name : 'all (max)' };
   },
   // How many bodies the meshes draw, how many meshes (draw calls) that takes, and how: 'instanced'
-  // (small scenes) or 'merged' (merged_bodies.js).
+  // (small scenes) or 'impostors' (ImpostorBodies).
   instances() {
-    if (merged) return { meshes: merged.meshes.length, count: merged.count, path: 'merged' };
+    if (impostors) return { meshes: impostors.meshes.length, count: impostors.count, path: 'impostors' };
     let count = 0;
     for (const g of instanced) count += g.mesh.count;
     return { meshes: instanced.length, count, path: 'instanced' };
@@ -167,14 +174,20 @@ function geometryOf(b, count = 1) {
       g.rotateX(Math.PI / 2);  // three's axis is y, rigid's is z
       return g;
     case 'capsule': {
-      const d = b.dims || [];
-      g = new THREE.CapsuleGeometry(positive(d[0], 0.05), positive(d[1], 0.1), [2, 4, 8][fine], round);
+      const [radius, length] = capsuleDims(b);
+      g = new THREE.CapsuleGeometry(radius, length, [2, 4, 8][fine], round);
       g.rotateX(Math.PI / 2);
       return g;
     }
     default:
       return new THREE.BoxGeometry(1, 1, 1);
   }
+}
+
+// A capsule's radius and the length of its cylinder (between the centres of its round ends).
+function capsuleDims(b) {
+  const d = b.dims || [];
+  return [positive(d[0], 0.05), positive(d[1], 0.1)];
 }
 
 // The shape within B: the unit geometry scaled to the body's dims; the box of a body's principal
@@ -210,44 +223,163 @@ function geometryKey(b) {
   return JSON.stringify(kind === 'capsule' ? [kind, b.dims] : [kind, !!b.from_moments]);
 }
 
-// Large scenes drawn without instancing: one merged BufferGeometry per shape group (every body's
-// vertices in one buffer, each vertex carrying its body's slot), posed in the vertex shader from a
-// float texture of per-body position and orientation that each state rewrites (one small upload:
-// 32 bytes a body). Why: Chromium's software renderer (SwiftShader) draws an instanced mesh about
-// as slowly as one draw per instance (~0.06 ms each, bench/view/README.md), whereas one merged
-// draw costs per vertex only. The shape's scale and frame in B are baked into the vertices once
-// (normals by the inverse transpose), so the shader does only p_WBo + R_WB p_BoV.
+// Large scenes: every body of a shape group one quad in one BufferGeometry (one draw call), posed
+// in the vertex shader from a float texture of per-body position and orientation that each state
+// rewrites (one small upload: 32 bytes a body). Why not instancing: Chromium's software renderer
+// (SwiftShader) draws an instanced mesh about as slowly as one draw per instance (~0.06 ms each,
+// bench/view/README.md).
 // (Here rather than in a module of its own: rigid-view serves a fixed list of files, server.cpp.)
 
 // Texels per row of the pose texture; a body takes two (p_WBo, placed) and (q_WB as x, y, z, w),
 // side by side in one row because the width is even.
 const kPoseWidth = 1024;
 
-// The vertex shader's additions to MeshBasicMaterial's: the body's pose fetched by slot and
-// applied to the position and normal (v' = v + 2 q.xyz x (q.xyz x v + q.w v), the rotation of v by
-// the unit quaternion q), and Lambert shading per vertex (Gouraud) instead of per pixel, which
-// halves the software rasterizer's cost per pixel (bench/view/README.md): the light of the page's
-// hemisphere (sky white, ground 0x404040, intensity 2, here about z) plus its sun (1.5 from
-// (3, -2, 5)), times the Lambert BRDF colour / pi, as three.js's MeshLambertMaterial computes it.
-// A body not yet placed has zeros: all its vertices collapse to one point, drawn as nothing.
-const kPoseShaderHeader = `
+// Impostors: each body one screen-facing quad (4 vertices instead of its mesh's 24-60) whose
+// fragment shader intersects the view ray with the body's true shape, in the shape's frame U
+// (box: slab test; ellipsoid: quadratic; cylinder: quadratic and two planes; capsule: quadratic
+// and two spheres), discards misses, shades the hit by its normal and writes its depth, so that
+// bodies occlude and cut through each other as meshes do. Why: meshes merged into one draw cost
+// SwiftShader per vertex (24-60 a body, two texture fetches each), impostors per pixel, which the
+// dynamic resolution lowers (bench/view/README.md). Shading: Lambert per pixel, the light of the
+// page's hemisphere (sky white, ground 0x404040, intensity 2, about z) plus its sun (1.5 from
+// (3, -2, 5)), times the BRDF colour / pi, as three.js's MeshLambertMaterial computes it.
+// The quad lies in the plane through Bo facing the camera, its half-sizes along the screen's axes
+// the shape's support (its half-width along that axis, for any orientation), grown by d / (d - s)
+// for the part of the body nearer the camera than that plane (d: Bo's distance from the camera,
+// s: the support towards it): it covers the body's projection, and mostly not much more. The ray
+// is taken from the quad's point (p in U, near the body: float32 keeps the quadratics precise),
+// along the camera's ray through it; at its parameter t = -1 it is at the camera.
+// Per vertex: the body's slot, its shape's half-extents in U (box: half its edges; ellipsoid: its
+// radii; cylinder: radius, radius, half its length; capsule: radius, radius, half its whole
+// length, along z) and q_BU; the quad's corner is gl_VertexID's lowest two bits.
+const kImpostorVertex = `
 uniform highp sampler2D bodyPoses;
 attribute float bodySlot;
+attribute vec3 extent;
+attribute vec4 shapeFrame;
+attribute vec3 color;
+flat varying vec3 vExtent;
+flat varying vec3 vColor;
+flat varying vec3 vCamera;         // the camera's position from Bo, in U
+flat varying vec3 vUp;             // the hemisphere light's axis (z of W) in U
+flat varying vec3 vSun;            // towards the sun, in U
+varying vec3 vPoint;               // the quad's point in U
 vec3 rotateByQuaternion(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
+vec4 quaternionProduct(vec4 a, vec4 b) {
+  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+// The shape's half-width along the unit direction n (in U).
+float support(vec3 n) {
+#if defined(SHAPE_BOX)
+  return dot(extent, abs(n));
+#elif defined(SHAPE_ELLIPSOID)
+  return length(extent * n);
+#elif defined(SHAPE_CYLINDER)
+  return extent.z * abs(n.z) + extent.x * length(n.xy);
+#else
+  return (extent.z - extent.x) * abs(n.z) + extent.x;
+#endif
+}
+void main() {
+  int poseTexel = 2 * int(bodySlot + 0.5);
+  ivec2 poseAt = ivec2(poseTexel % ${kPoseWidth}, poseTexel / ${kPoseWidth});
+  vec4 bodyP = texelFetch(bodyPoses, poseAt, 0);
+  vec4 q_UW = quaternionProduct(texelFetch(bodyPoses, poseAt + ivec2(1, 0), 0), shapeFrame);
+  q_UW.xyz = -q_UW.xyz;  // the inverse: W to U
+  vec3 toCamera = cameraPosition - bodyP.xyz;
+  float d = length(toCamera);
+  vec3 w = toCamera / d;
+  vec3 u = normalize(cross(vec3(viewMatrix[0][1], viewMatrix[1][1], viewMatrix[2][1]), w));
+  vec3 v = cross(w, u);
+  vec3 uU = rotateByQuaternion(q_UW, u), vU = rotateByQuaternion(q_UW, v);
+  float nearer = support(rotateByQuaternion(q_UW, w));
+  // Not placed, or the camera within the body's reach: outside the clip volume, nothing drawn.
+  if (bodyP.w == 0.0 || d <= nearer) {
+    gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    return;
+  }
+  vec2 corner = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1)) * 2.0 - 1.0;
+  vec2 reach = (d / (d - nearer)) * corner * vec2(support(uU), support(vU));
+  gl_Position = projectionMatrix * viewMatrix * vec4(bodyP.xyz + reach.x * u + reach.y * v, 1.0);
+  vPoint = reach.x * uU + reach.y * vU;
+  vCamera = rotateByQuaternion(q_UW, toCamera);
+#if defined(SHAPE_ELLIPSOID)
+  // An ellipsoid's ray in the frame where it is the unit sphere.
+  vPoint /= extent;
+  vCamera /= extent;
+#endif
+  vUp = rotateByQuaternion(q_UW, vec3(0.0, 0.0, 1.0));
+  vSun = rotateByQuaternion(q_UW, vec3(0.4867, -0.3244, 0.8111));
+  vExtent = extent;
+  vColor = color;
+}
 `;
-const kPoseVertex = `
-int poseTexel = 2 * int(bodySlot + 0.5);
-ivec2 poseAt = ivec2(poseTexel % ${kPoseWidth}, poseTexel / ${kPoseWidth});
-vec4 bodyP = texelFetch(bodyPoses, poseAt, 0);
-vec4 bodyQ = texelFetch(bodyPoses, poseAt + ivec2(1, 0), 0);
-vec3 transformed = bodyP.w * (rotateByQuaternion(bodyQ, position) + bodyP.xyz);
-vec3 n_W = rotateByQuaternion(bodyQ, normal);
-vec3 irradiance = 2.0 * mix(vec3(0.0513), vec3(1.0), 0.5 * n_W.z + 0.5) +
-                  1.5 * max(dot(n_W, vec3(0.4867, -0.3244, 0.8111)), 0.0);
-vColor.rgb *= irradiance * RECIPROCAL_PI;
+const kImpostorFragment = `
+uniform mat4 projectionMatrix;
+uniform float opacity;
+flat varying vec3 vExtent;
+flat varying vec3 vColor;
+flat varying vec3 vCamera;
+flat varying vec3 vUp;
+flat varying vec3 vSun;
+varying vec3 vPoint;
+void main() {
+  // The ray p + t dir in U (ellipsoid: scaled to the unit sphere), dir from the camera through p.
+  vec3 p = vPoint, dir = vPoint - vCamera, e = vExtent;
+  float t;
+  vec3 n;
+#if defined(SHAPE_BOX)
+  vec3 inverse = 1.0 / dir, t0 = (-e - p) * inverse, t1 = (e - p) * inverse;
+  vec3 enter = min(t0, t1), leave = max(t0, t1);
+  t = max(max(enter.x, enter.y), enter.z);
+  if (t > min(min(leave.x, leave.y), leave.z)) discard;
+  n = -sign(dir) * vec3(equal(enter, vec3(t)));
+#elif defined(SHAPE_ELLIPSOID)
+  float a = dot(dir, dir), b = dot(p, dir), disc = b * b - a * (dot(p, p) - 1.0);
+  if (disc < 0.0) discard;
+  t = (-b - sqrt(disc)) / a;
+  n = normalize((p + t * dir) / e);
+#else
+  // The side: (p.xy + t dir.xy)^2 = r^2 (a ray along the axis: a tiny a, roots far apart).
+  float r = e.x, a = max(dot(dir.xy, dir.xy), 1e-12), b = dot(p.xy, dir.xy);
+  float disc = b * b - a * (dot(p.xy, p.xy) - r * r);
+  if (disc < 0.0) discard;
+  float root = sqrt(disc);
+  t = (-b - root) / a;
+#if defined(SHAPE_CYLINDER)
+  // Within the slab |z| <= e.z too: the later entry, if before the earlier exit.
+  float t0 = (-e.z - p.z) / dir.z, t1 = (e.z - p.z) / dir.z;
+  float capEnter = min(t0, t1);
+  if (max(t, capEnter) > min((-b + root) / a, max(t0, t1))) discard;
+  n = t > capEnter ? vec3((p.xy + t * dir.xy) / r, 0.0) : vec3(0.0, 0.0, -sign(dir.z));
+  t = max(t, capEnter);
+#else
+  // Entering the infinite cylinder beyond an end, the ray meets that end's sphere or nothing.
+  float h = e.z - r, z = p.z + t * dir.z;
+  vec3 hit = p + t * dir;
+  n = vec3(hit.xy / r, 0.0);
+  if (abs(z) > h) {
+    vec3 pc = p - vec3(0.0, 0.0, sign(z) * h);
+    float a3 = dot(dir, dir), b3 = dot(pc, dir), disc3 = b3 * b3 - a3 * (dot(pc, pc) - r * r);
+    if (disc3 < 0.0) discard;
+    t = (-b3 - sqrt(disc3)) / a3;
+    n = (pc + t * dir) / r;
+  }
+#endif
+#endif
+  // Behind the camera (t = -1 is the camera): not seen.
+  if (t <= -1.0) discard;
+  // The hit's depth: in the camera's frame (1 + t) times the quad point's, -1 / w.
+  float viewZ = -(1.0 + t) / gl_FragCoord.w;
+  gl_FragDepth = 0.5 * (projectionMatrix[2][2] * viewZ + projectionMatrix[3][2]) / -viewZ + 0.5;
+  vec3 irradiance = 2.0 * mix(vec3(0.0513), vec3(1.0), 0.5 * dot(n, vUp) + 0.5) +
+                    1.5 * max(dot(n, vSun), 0.0);
+  gl_FragColor = vec4(vColor * irradiance * 0.3183098861837907, opacity);
+  #include <colorspace_fragment>
+}
 `;
 
-class MergedBodies {
+class ImpostorBodies {
   // n: the scene's bodies (slots 0..n-1).
   constructor(n) {
     this.n = n;
@@ -259,53 +391,43 @@ class MergedBodies {
     this.texture.generateMipmaps = false;
     this.texture.needsUpdate = true;
     this.meshes = [];
-    this.count = 0;  // bodies drawn (vertices in the merged buffers)
+    this.count = 0;  // bodies drawn
   }
 
-  // One draw call for `members` ([{ slot, shape4 (Matrix4: the unit geometry in B), color }]) of
-  // one unit geometry, with `material` (its shader gets the pose fetch). Returns the mesh.
-  add(unit, material, members) {
-    const g = unit.index ? unit : unit.toNonIndexed();
-    const pos = g.attributes.position, nor = g.attributes.normal;
-    const nv = pos.count, ni = g.index ? g.index.count : 0;
-    const positions = new Float32Array(3 * nv * members.length);
-    const normals = new Float32Array(3 * nv * members.length);
-    const colors = new Float32Array(3 * nv * members.length);
-    const slots = new Float32Array(nv * members.length);
-    const index = new Uint32Array(ni * members.length);
-    const v = new THREE.Vector3(), normalMatrix = new THREE.Matrix3();
+  // One draw call (kImpostorVertex) for `members` ([{ slot, extent (Vector3: the half-extents in
+  // U), frame (Quaternion: q_BU), color }]) of one shape `kind` ('BOX', 'ELLIPSOID', 'CYLINDER' or
+  // 'CAPSULE'), opaque or with `opacity`. Returns the mesh.
+  add(kind, members, { transparent, opacity }) {
+    const n = members.length;
+    const slots = new Float32Array(4 * n), extents = new Float32Array(12 * n);
+    const frames = new Float32Array(16 * n), colors = new Float32Array(12 * n);
+    const index = new Uint32Array(6 * n);
     members.forEach((m, k) => {
-      normalMatrix.getNormalMatrix(m.shape4);
-      const base = k * nv;
-      for (let i = 0; i < nv; ++i) {
-        v.fromBufferAttribute(pos, i).applyMatrix4(m.shape4).toArray(positions, 3 * (base + i));
-        v.fromBufferAttribute(nor, i).applyMatrix3(normalMatrix).normalize().toArray(normals, 3 * (base + i));
-        m.color.toArray(colors, 3 * (base + i));
-        slots[base + i] = m.slot;
+      for (let c = 4 * k; c < 4 * k + 4; ++c) {
+        slots[c] = m.slot;
+        m.extent.toArray(extents, 3 * c);
+        m.frame.toArray(frames, 4 * c);
+        m.color.toArray(colors, 3 * c);
       }
-      for (let i = 0; i < ni; ++i) index[k * ni + i] = base + g.index.getX(i);
+      // Corners 0 (-1, -1), 1 (1, -1), 2 (-1, 1), 3 (1, 1) on the screen: two triangles, both
+      // counter-clockwise (front faces).
+      index.set([0, 1, 2, 2, 1, 3].map((c) => 4 * k + c), 6 * k);
     });
     const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    geometry.setAttribute('normal', new THREE.BufferAttribute(normals, 3));
-    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
     geometry.setAttribute('bodySlot', new THREE.BufferAttribute(slots, 1));
-    if (ni) geometry.setIndex(new THREE.BufferAttribute(index, 1));
-    if (g !== unit) g.dispose();
-    material.vertexColors = true;
-    material.onBeforeCompile = (shader) => {
-      shader.uniforms.bodyPoses = { value: this.texture };
-      shader.vertexShader = shader.vertexShader
-        .replace('#include <common>', `#include <common>\n${kPoseShaderHeader}`)
-        .replace('#include <begin_vertex>', kPoseVertex);
-    };
-    material.customProgramCacheKey = () => 'rigid-view merged bodies';
+    geometry.setAttribute('extent', new THREE.BufferAttribute(extents, 3));
+    geometry.setAttribute('shapeFrame', new THREE.BufferAttribute(frames, 4));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    geometry.setIndex(new THREE.BufferAttribute(index, 1));
+    const material = new THREE.ShaderMaterial({
+      defines: { [`SHAPE_${kind}`]: '' }, transparent,
+      uniforms: { bodyPoses: { value: this.texture }, opacity: { value: opacity } },
+      vertexShader: kImpostorVertex, fragmentShader: kImpostorFragment,
+    });
     const mesh = new THREE.Mesh(geometry, material);
-    // The vertices are placed on the GPU: three's bounding sphere (from the unposed buffer) would
-    // cull wrongly.
-    mesh.frustumCulled = false;
+    mesh.frustumCulled = false;  // placed on the GPU
     this.meshes.push(mesh);
-    this.count += members.length;
+    this.count += n;
     return mesh;
   }
 
@@ -345,10 +467,10 @@ class MergedBodies {
 }
 
 // Picking without meshes to ray-cast: the body a ray hits first, from the poses the page holds (the
-// same numbers the merged geometry is drawn from, merged_bodies.js). Each body is first tested
-// against its bounding sphere in W (cheap, rejects nearly all of them), then exactly against its
-// unit shape in the unit geometry's frame: the unit sphere for spheres and ellipsoids, the unit
-// geometry's bounding box otherwise (exact for boxes, the enclosing box for cylinders and capsules).
+// same numbers the impostors are drawn from). Each body is first tested against its bounding
+// sphere in W (cheap, rejects nearly all of them), then exactly against its unit shape in the unit
+// geometry's frame: the unit sphere for spheres and ellipsoids, the unit geometry's bounding box
+// otherwise (exact for boxes, the enclosing box for cylinders and capsules).
 
 const pickScratch = {
   X: new THREE.Matrix4(), Xinv: new THREE.Matrix4(), ray: new THREE.Ray(), hit: new THREE.Vector3(),
@@ -394,15 +516,15 @@ function setScene(msg) {
     g.mesh.dispose();
   }
   instanced.length = 0;
-  if (merged) merged.dispose();
-  merged = null;
+  if (impostors) impostors.dispose();
+  impostors = null;
   bodies.clear();
   const many = msg.bodies.length > kManyBodies;
   setRenderScale(1);  // a new scene: its own frame rate decides
   Object.assign(scaleWindow, { start: null, fast: 0 });
   useAntialias(!many);
   if (many) {
-    setMergedScene(msg, groupsOf(msg));
+    setImpostorScene(msg, groupsOf(msg));
     return;
   }
   for (const { b, members } of groupsOf(msg).values()) {
@@ -447,20 +569,43 @@ function groupsOf(msg) {
   return groups;
 }
 
-// A large scene: one merged geometry per group, posed on the GPU (merged_bodies.js); the scene
+// The impostor shader's kind for a body (kImpostorVertex), the same for every body of a group
+// (geometryKey).
+function impostorKind(b) {
+  switch (b.shape) {
+    case 'sphere': case 'ellipsoid': return 'ELLIPSOID';
+    case 'cylinder': return 'CYLINDER';
+    case 'capsule': return 'CAPSULE';
+    default: return 'BOX';
+  }
+}
+// The body's shape as its impostor draws it: its half-extents in U and q_BU (kImpostorVertex),
+// from its unit geometry's scale and frame in B (shapeMatrix) and the unit geometries' sizes
+// (geometryOf: unit sphere, unit cube, cylinder of radius 1 and length 1; a capsule unscaled).
+function impostorShape(kind, d, shape4) {
+  const extent = new THREE.Vector3(), frame = new THREE.Quaternion();
+  shape4.decompose(new THREE.Vector3(), frame, extent);
+  if (kind === 'BOX') extent.multiplyScalar(0.5);
+  else if (kind === 'CYLINDER') extent.z *= 0.5;
+  else if (kind === 'CAPSULE') {
+    const [radius, length] = capsuleDims(d);
+    extent.set(radius, radius, length / 2 + radius);
+  }
+  return { extent, frame };
+}
+
+// A large scene: one draw of impostors per group, posed on the GPU (ImpostorBodies); the scene
 // index is the body's slot in the pose texture. Picking uses pickBodies with each body's unit
-// shape (body_pick.js).
-function setMergedScene(msg, groups) {
-  merged = new MergedBodies(msg.bodies.length);
+// shape, from the unit geometry's bounds (built for that only, never drawn).
+function setImpostorScene(msg, groups) {
+  impostors = new ImpostorBodies(msg.bodies.length);
   for (const { b, members } of groups.values()) {
     const look = { transparent: !!b.from_moments, opacity: b.from_moments ? 0.6 : 1 };
-    // Spheres: an icosahedron (20 triangles) instead of 8x4 segments (48): in software rendering
-    // every triangle costs (10^3 bodies: 25 -> 33 frames/s, bench/view/README.md).
-    const round = b.shape === 'sphere' || b.shape === 'ellipsoid';
-    const geometry = round ? new THREE.IcosahedronGeometry(1, 0) : geometryOf(b, members.length);
+    const kind = impostorKind(b);
+    const geometry = geometryOf(b, members.length);
     geometry.computeBoundingSphere();
     geometry.computeBoundingBox();
-    const unit = { round, box: geometry.boundingBox };
+    const unit = { round: kind === 'ELLIPSOID', box: geometry.boundingBox };
     const drawn = members.map((i) => {
       const d = msg.bodies[i];
       const shape = shapeMatrix(d);
@@ -469,9 +614,10 @@ function setMergedScene(msg, groups) {
                          radius: geometry.boundingSphere.radius * shape.getMaxScaleOnAxis(),
                          shape4: shape, unit, p: new THREE.Vector3(), q: new THREE.Quaternion(),
                          v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false });
-      return { slot: i, shape4: shape, color: new THREE.Color().setHex(palette[i % palette.length]) };
+      return { slot: i, color: new THREE.Color().setHex(palette[i % palette.length]),
+               ...impostorShape(kind, d, shape) };
     });
-    bodyGroup.add(merged.add(geometry, new THREE.MeshBasicMaterial(look), drawn));
+    bodyGroup.add(impostors.add(kind, drawn, look));
     geometry.dispose();
   }
   sceneSet(msg);
@@ -523,10 +669,10 @@ function applyState(buffer) {
     b.placed = true;
     // Large scenes: the pose into the vertex shader's texture; small: the instance's matrix, X_WB
     // (pose) times the shape's scale and frame in B.
-    if (merged) merged.setPose(b.index, b.p, b.q);
+    if (impostors) impostors.setPose(b.index, b.p, b.q);
     else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
   }
-  if (merged) merged.commit();
+  if (impostors) impostors.commit();
   for (const g of instanced) {
     g.mesh.instanceMatrix.needsUpdate = true;
     g.mesh.boundingSphere = null;  // stale: recomputed by the next ray cast
@@ -672,7 +818,7 @@ const pointer = new THREE.Vector2();
 let grab = null;  // { id, body, local (from the CoM, in B), plane, target }
 // The body under the pointer (raycaster already set) and the hit point in W, or null.
 function pick() {
-  if (merged) return pickBodies(raycaster.ray, bodyList);
+  if (impostors) return pickBodies(raycaster.ray, bodyList);
   const hit = raycaster.intersectObjects(instanced.map((g) => g.mesh), false)
     .find((h) => h.instanceId !== undefined);
   if (!hit) return null;
