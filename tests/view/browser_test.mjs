@@ -87,7 +87,8 @@ async function manyBodies() {
     const under = await rv(`document.elementFromPoint(${p.x}, ${p.y}).tagName`);
     if (under !== 'CANVAS') throw new Error(`large scene: the ${under} at ${JSON.stringify(p)} hides the probe`);
   }
-  const pixel = (x, y) => page.evaluate(([px, py]) => new Promise((resolve) => requestAnimationFrame(() => {
+  // The canvas's colours (RGBA) at points of the page (CSS px), all from one frame.
+  const pixels = (points) => page.evaluate((pts) => new Promise((resolve) => requestAnimationFrame(() => {
     const canvas = document.querySelector('#view canvas');
     const r = canvas.getBoundingClientRect();
     const c = document.createElement('canvas');
@@ -96,10 +97,9 @@ async function manyBodies() {
     const g = c.getContext('2d');
     g.drawImage(canvas, 0, 0);
     const s = canvas.width / r.width;
-    resolve(Array.from(g.getImageData(Math.round((px - r.left) * s), Math.round((py - r.top) * s), 1, 1).data));
-  })), [x, y]);
-  const probe = await pixel(at.x, at.y);
-  const empty = await pixel(above.x, above.y);
+    resolve(pts.map(([px, py]) => Array.from(g.getImageData(Math.round((px - r.left) * s), Math.round((py - r.top) * s), 1, 1).data)));
+  })), points);
+  const [probe, empty] = await pixels([[at.x, at.y], [above.x, above.y]]);
   console.log(`large scene: pixel at the probe ${probe}, 0.5 m above it ${empty}`);
   if (!(probe[2] > probe[0] + 40 && probe[1] > probe[0] + 20)) throw new Error(`not the probe's colour where it is drawn: ${probe}`);
   if (!(Math.abs(empty[2] - empty[0]) < 20 && Math.abs(empty[1] - empty[0]) < 20))
@@ -110,17 +110,10 @@ async function manyBodies() {
   // world axes there). Points within kEdge CSS px of an edge (where a neighbour's answer differs;
   // two rendered pixels more at a lower render scale) are skipped, as are points where the ray hits
   // another body.
-  const silhouette = await page.evaluate(([cx, cy]) => new Promise((resolve) => requestAnimationFrame(() => {
+  // The scene is paused: the points the page's ray cast labels and the pixels are of one pose.
+  const grid = await page.evaluate(([cx, cy]) => {
     const kEdge = Math.ceil(2 + 2 / window.rigidView.renderScale()), kStep = 2, kReach = 80;
-    const canvas = document.querySelector('#view canvas');
-    const r = canvas.getBoundingClientRect();
-    const c = document.createElement('canvas');
-    c.width = canvas.width;
-    c.height = canvas.height;
-    const g = c.getContext('2d');
-    g.drawImage(canvas, 0, 0);
-    const s = canvas.width / r.width;
-    const out = { probe: 0, empty: 0, wrong: [] };
+    const points = [];
     for (let y = cy - kReach; y <= cy + kReach; y += kStep) {
       for (let x = cx - kReach; x <= cx + kReach; x += kStep) {
         const at = window.rigidView.bodyAt(x, y);
@@ -128,16 +121,21 @@ async function manyBodies() {
         const around = [[kEdge, 0], [-kEdge, 0], [0, kEdge], [0, -kEdge], [kEdge, kEdge], [-kEdge, -kEdge],
                         [kEdge, -kEdge], [-kEdge, kEdge]];
         if (around.some(([dx, dy]) => window.rigidView.bodyAt(x + dx, y + dy) !== at)) continue;
-        const [pr, pg, pb] = g.getImageData(Math.round((x - r.left) * s), Math.round((y - r.top) * s), 1, 1).data;
-        // Light blue, lit or in shade (its red more than a seventh of its blue; the world's z
-        // axis, light blue too, has none).
-        const probeColour = pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb;
-        if (probeColour !== (at === 'probe')) out.wrong.push({ x, y, at, pixel: [pr, pg, pb] });
-        out[at === 'probe' ? 'probe' : 'empty'] += 1;
+        points.push({ x, y, at });
       }
     }
-    resolve(out);
-  })), [at.x, at.y]);
+    return points;
+  }, [at.x, at.y]);
+  const colours = await pixels(grid.map((p) => [p.x, p.y]));
+  const silhouette = { probe: 0, empty: 0, wrong: [] };
+  grid.forEach((p, k) => {
+    const [pr, pg, pb] = colours[k];
+    // Light blue, lit or in shade (its red more than a seventh of its blue; the world's z
+    // axis, light blue too, has none).
+    const probeColour = pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb;
+    if (probeColour !== (p.at === 'probe')) silhouette.wrong.push({ ...p, pixel: [pr, pg, pb] });
+    silhouette[p.at === 'probe' ? 'probe' : 'empty'] += 1;
+  });
   console.log(`large scene: probe silhouette: ${silhouette.probe} points on the probe, ${silhouette.empty} around it, ${silhouette.wrong.length} wrong`);
   if (silhouette.probe < 20 || silhouette.empty < 20) throw new Error(`too few points checked around the probe: ${JSON.stringify(silhouette)}`);
   if (silhouette.wrong.length) throw new Error(`the probe's drawn silhouette differs from its box: ${JSON.stringify(silhouette.wrong.slice(0, 10))}`);
