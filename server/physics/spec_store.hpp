@@ -53,8 +53,6 @@ class SpecStore {
   Vec3 w_WB(int id) const { return Vec3(initial_[id].w); }
   // The BodySpec of body id, as given.
   BodySpec get(int id) const;
-  // Kinds of parameters stored (bodies with equal ones share an entry).
-  int kinds() const { return static_cast<int>(params_.size()); }
 
  private:
   // Unaligned doubles: 104 B, where a BodyState's Eigen members take 112.
