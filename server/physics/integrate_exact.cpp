@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "physics/hybrid_lanes.hpp"
+#include "physics/iso_lanes.hpp"
 #include "physics/kernels.hpp"
 #include "physics/rotor_lanes.hpp"
 
@@ -45,15 +46,6 @@ inline void drift(GenGroup& g, int i, double s) {
 }
 
 // Exact rotation over the model's dt, reusing the cached plan while the momentum is untouched.
-inline void drift_cached(IsoGroup& g, int i, double h) {
-  Motion& b = g.motion[i];
-  if (!g.dq_ok[i]) {
-    g.dq[i] = quat_exp(h * b.spin);
-    g.dq_ok[i] = 1;
-  }
-  b.q = b.q * g.dq[i];
-  renormalize(b.q);
-}
 inline void drift_cached(AxiGroup& g, int i, double h) {
   Motion& b = g.motion[i];
   const DiagRot& r = g.rot(i);
@@ -114,6 +106,44 @@ void exact_quiet(G& g, const Model& m, Range r) {
     c.at(i);
     translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
     drift_cached(g, i, h);
+  }
+}
+
+// exact_quiet for isotropic bodies: the translations first, then the rotations, four at a time
+// with the kernel of the World's width (iso_lanes.hpp) and one by one for the rest. Bodies are
+// independent and each path gives the same bits, so neither the split nor the route changes a
+// result. Every increment is made before any is applied: drift_cached's order per body.
+void exact_quiet(IsoGroup& g, const Model& m, Range r) {
+  const double h = m.dt;
+  LinearCursor c(g, m, kFull);
+  for (int i = r.begin; i < r.end; ++i) {
+    Motion& b = g.motion[i];
+    c.at(i);
+    translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
+  }
+  for (int i = r.begin; i < r.end; ++i) {
+    if (!g.dq_ok[i]) {
+      g.dq[i] = quat_exp(h * g.motion[i].spin);
+      g.dq_ok[i] = 1;
+    }
+  }
+  int i = r.begin;
+  if (m.lanes >= 4 && r.end - r.begin >= 4) {
+    static_assert(sizeof(Quat) == 4 * sizeof(double));
+    const int n = (r.end - r.begin) / 4 * 4;
+    char* q = reinterpret_cast<char*>(g.motion[i].q.coeffs().data());
+    const double* dq = g.dq[i].coeffs().data();
+    if (m.lanes == 8) {
+      lanes8::iso_drift(q, sizeof(Motion), dq, n);
+    } else {
+      lanes4::iso_drift(q, sizeof(Motion), dq, n);
+    }
+    i += n;
+  }
+  for (; i < r.end; ++i) {
+    Motion& b = g.motion[i];
+    b.q = b.q * g.dq[i];
+    renormalize(b.q);
   }
 }
 
