@@ -10,12 +10,17 @@
 // A body with no torque, no angular drag and no force that turns with it is integrated exactly by
 // one drift and one exact translation, whatever the order asked for: its rotation plan (elliptic
 // constants and quadrature nodes for this h) is cached until something changes its momentum.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #include "physics/hybrid_lanes.hpp"
 #include "physics/iso_lanes.hpp"
 #include "physics/kernels.hpp"
 #include "physics/rotor_lanes.hpp"
+#include "physics/translation_lanes.hpp"
 
 namespace rigid::physics::detail {
 
@@ -95,55 +100,116 @@ void exact_points(PointGroup& g, const Model& m, Range r) {
   }
 }
 
-// Bodies with nothing turning them: one exact translation and one exact drift, the rotation plan
-// cached until something changes the momentum.
+// The translations of the quiet entries [begin, end) (translate with the force f_W alone): runs
+// of entries sharing their parameters through the kernel of the World's width
+// (translation_lanes.hpp), one vector a body; the scalar code when the World has no such kernel
+// (width 2, or 1 in tests). Both give the same bits.
 template <class G>
-void exact_quiet(G& g, const Model& m, Range r) {
-  const double h = m.dt;
-  LinearCursor c(g, m, kFull);
-  for (int i = r.begin; i < r.end; ++i) {
-    Motion& b = g.motion[i];
-    c.at(i);
-    translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
-    drift_cached(g, i, h);
+void translate_quiet(G& g, const Model& m, int begin, int end) {
+  if (m.lanes < 4) {
+    LinearCursor c(g, m, kFull);
+    for (int i = begin; i < end; ++i) {
+      Motion& b = g.motion[i];
+      c.at(i);
+      translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
+    }
+    return;
+  }
+  // The kernel reads v (and keeps the double after it) from x's address on.
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  static_assert(std::is_standard_layout_v<Motion> &&
+                offsetof(Motion, v) == offsetof(Motion, x) + 24 &&
+                offsetof(Motion, spin) == offsetof(Motion, v) + 24);
+  for (int i = begin; i < end;) {
+    const std::int32_t k = g.linear.of[i];
+    int j = i + 1;
+    // Eight indices at a time (a loop the compiler vectorises) while they all match, then one by
+    // one.
+    for (; j + 8 <= end; j += 8) {
+      std::int32_t differ = 0;
+      for (int l = 0; l < 8; ++l)
+        differ |= g.linear.of[j + l] ^ k;
+      if (differ != 0) break;
+    }
+    while (j < end && g.linear.of[j] == k)
+      ++j;
+    const Linear& lin = g.linear.values[k];
+    const TransCoef& tc = m.tc(lin, kFull);
+    const SharedTranslation st{{lin.g.x(), lin.g.y(), lin.g.z()},
+                               {lin.inv_m.x(), lin.inv_m.y(), lin.inv_m.z()},
+                               tc.E,
+                               tc.p1,
+                               tc.q2};
+    char* x = reinterpret_cast<char*>(g.motion[i].x.data());
+    const char* f = reinterpret_cast<const char*>(g.loads[i].f_W.data());
+    if (m.lanes == 8) {
+      lanes8::translate_quiet(x, sizeof(Motion), f, sizeof(LoadHead), st, j - i);
+    } else {
+      lanes4::translate_quiet(x, sizeof(Motion), f, sizeof(LoadHead), st, j - i);
+    }
+    i = j;
   }
 }
 
-// exact_quiet for isotropic bodies: the translations first, then the rotations, four at a time
-// with the kernel of the World's width (iso_lanes.hpp) and one by one for the rest. Bodies are
-// independent and each path gives the same bits, so neither the split nor the route changes a
-// result. Every increment is made before any is applied: drift_cached's order per body.
+// Bodies with nothing turning them: one exact translation and one exact drift, the rotation plan
+// cached until something changes the momentum; a chunk's translations first (translate_quiet),
+// then its drifts (the bodies stay in the cache between the two).
+constexpr int kQuietChunk = 256;  // a multiple of 4 and 8: see the isotropic bodies' below
+template <class G>
+void exact_quiet(G& g, const Model& m, Range r) {
+  const double h = m.dt;
+  for (int begin = r.begin; begin < r.end; begin += kQuietChunk) {
+    const int end = std::min(begin + kQuietChunk, r.end);
+    translate_quiet(g, m, begin, end);
+    for (int i = begin; i < end; ++i)
+      drift_cached(g, i, h);
+  }
+}
+
+// exact_quiet for isotropic bodies, a chunk at a time (its bodies stay in the cache between the
+// passes): the translations first (translate_quiet), then the rotations, four at a time with the
+// kernel of the World's width (iso_lanes.hpp) and one by one for the rest. Bodies are independent
+// and each path gives the same bits, so neither the split nor the route changes a result. Every
+// increment is made before any is applied: the order of the scalar code per body.
 void exact_quiet(IsoGroup& g, const Model& m, Range r) {
   const double h = m.dt;
-  LinearCursor c(g, m, kFull);
-  for (int i = r.begin; i < r.end; ++i) {
-    Motion& b = g.motion[i];
-    c.at(i);
-    translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
-  }
-  for (int i = r.begin; i < r.end; ++i) {
-    if (!g.dq_ok[i]) {
-      g.dq[i] = quat_exp(h * g.motion[i].spin);
-      g.dq_ok[i] = 1;
+  // Chunks of a multiple of 4 bodies: only the range's last leaves a remainder to the scalar code.
+  for (int begin = r.begin; begin < r.end; begin += kQuietChunk) {
+    const int end = std::min(begin + kQuietChunk, r.end);
+    translate_quiet(g, m, begin, end);
+    for (int i = begin; i < end; ++i) {
+      // Eight flags at a time: after the first step they are almost always all set.
+      if (i % 8 == 0 && i + 8 <= end) {
+        std::uint64_t flags;
+        std::memcpy(&flags, &g.dq_ok[i], sizeof flags);
+        if (flags == 0x0101010101010101u) {
+          i += 7;
+          continue;
+        }
+      }
+      if (!g.dq_ok[i]) {
+        g.dq[i] = quat_exp(h * g.motion[i].spin);
+        g.dq_ok[i] = 1;
+      }
     }
-  }
-  int i = r.begin;
-  if (m.lanes >= 4 && r.end - r.begin >= 4) {
-    static_assert(sizeof(Quat) == 4 * sizeof(double));
-    const int n = (r.end - r.begin) / 4 * 4;
-    char* q = reinterpret_cast<char*>(g.motion[i].q.coeffs().data());
-    const double* dq = g.dq[i].coeffs().data();
-    if (m.lanes == 8) {
-      lanes8::iso_drift(q, sizeof(Motion), dq, n);
-    } else {
-      lanes4::iso_drift(q, sizeof(Motion), dq, n);
+    int i = begin;
+    if (m.lanes >= 4 && end - begin >= 4) {
+      static_assert(sizeof(Quat) == 4 * sizeof(double));
+      const int n = (end - begin) / 4 * 4;
+      char* q = reinterpret_cast<char*>(g.motion[i].q.coeffs().data());
+      const double* dq = g.dq[i].coeffs().data();
+      if (m.lanes == 8) {
+        lanes8::iso_drift(q, sizeof(Motion), dq, n);
+      } else {
+        lanes4::iso_drift(q, sizeof(Motion), dq, n);
+      }
+      i += n;
     }
-    i += n;
-  }
-  for (; i < r.end; ++i) {
-    Motion& b = g.motion[i];
-    b.q = b.q * g.dq[i];
-    renormalize(b.q);
+    for (; i < end; ++i) {
+      Motion& b = g.motion[i];
+      b.q = b.q * g.dq[i];
+      renormalize(b.q);
+    }
   }
 }
 
@@ -158,17 +224,12 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
   if (width == 1) return exact_quiet(g, m, r);
   constexpr int kBlock = RotorPlans::kBlock;
   RotorStateLanes st;
-  LinearCursor c(g, m, kFull);
   for (int i = r.begin; i < r.end;) {
     bool whole = i % kBlock == 0 && i + kBlock <= r.end;
     for (int l = 0; whole && l < kBlock; ++l)
       whole = rotor_lane_ready(g, i + l);
     const int n = whole ? kBlock : 1;
-    for (int l = 0; l < n; ++l) {
-      Motion& mo = g.motion[i + l];
-      c.at(i + l);
-      translate(c.tc(), c.lin().accel(g.loads[i + l].f_W), mo.x, mo.v);
-    }
+    translate_quiet(g, m, i, i + n);
     if (whole) {
       g.plan.prefetch(i / kBlock + 2);
       rotor_gather_block(g, i / kBlock, st);

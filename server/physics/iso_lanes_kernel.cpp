@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "physics/iso_lanes.hpp"
 
 namespace rigid::physics::detail::RIGID_LANE_NS {
@@ -27,6 +31,16 @@ inline void transpose(D4& a0, D4& a1, D4& a2, D4& a3) {
   a1 = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
   a2 = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
   a3 = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+}
+
+// Whether every lane is set: one test instruction where the instruction set has it (a test per
+// lane cost a fifth of the kernel's samples in perf).
+inline bool all(const M4& m) {
+#if defined(__AVX__)
+  return _mm256_movemask_pd(reinterpret_cast<__m256d>(m)) == 0xF;
+#else
+  return (m[0] & m[1] & m[2] & m[3]) != 0;
+#endif
 }
 
 // By reference: the SSE2 build may not pass 256-bit vectors by value (its ABI has no such
@@ -65,7 +79,7 @@ void iso_drift(char* q, std::ptrdiff_t stride, const double* dq, int n) {
     const M4 near = (e < 1e-8) & (e > -1e-8);
     const D4 f = 1.5 - 0.5 * n2;
     D4 rx = x * f, ry = y * f, rz = z * f, rw = w * f;
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; !all(near) && l < 4; ++l) {
       if (near[l] == 0) {  // far from 1: a full normalisation, as the scalar code
         const double s = std::sqrt(n2[l]);
         rx[l] = x[l] / s;
