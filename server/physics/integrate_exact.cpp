@@ -90,16 +90,6 @@ inline void invalidate(GenGroup& g, int i) {
   g.plan_ok[i] = 0;
 }
 
-void exact_points(PointGroup& g, const Model& m, Range r) {
-  // A point mass never turns: its acceleration is constant over the step, so this is exact.
-  LinearCursor c(g, m, kFull);
-  for (int i = r.begin; i < r.end; ++i) {
-    Motion& b = g.motion[i];
-    c.at(i);
-    translate(c.tc(), c.lin().accel(g.load(i).force_W(b.q)), b.x, b.v);
-  }
-}
-
 // The translations of the quiet entries [begin, end) (translate with the force f_W alone): runs
 // of entries sharing their parameters through the kernel of the World's width
 // (translation_lanes.hpp), one vector a body; the scalar code when the World has no such kernel
@@ -148,6 +138,18 @@ void translate_quiet(G& g, const Model& m, int begin, int end) {
       lanes4::translate_quiet(x, sizeof(Motion), f, sizeof(LoadHead), st, j - i);
     }
     i = j;
+  }
+}
+
+// A point mass never turns: its acceleration is constant over the step, so this is exact. The
+// quiet run's force is f_W alone (translate_quiet); the loaded run's may turn with the body.
+void exact_points(PointGroup& g, const Model& m, const Range (&run)[2]) {
+  translate_quiet(g, m, run[0].begin, run[0].end);
+  LinearCursor c(g, m, kFull);
+  for (int i = run[1].begin; i < run[1].end; ++i) {
+    Motion& b = g.motion[i];
+    c.at(i);
+    translate(c.tc(), c.lin().accel(g.load(i).force_W(b.q)), b.x, b.v);
   }
 }
 
@@ -377,7 +379,7 @@ void hybrid_loaded(G& g, const Model& m, Range r) {
 // them with m.lanes == 1 (the scalar reference), one by one.
 template <class Comp>
 void step_hybrid_with(Model& m, Share& sh) {
-  exact_points(m.point, m, sh.all[PointGroup::kIndex]);
+  exact_points(m.point, m, sh.run[PointGroup::kIndex]);
   exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
   hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
   exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
@@ -394,7 +396,7 @@ void step_hybrid_with(Model& m, Share& sh) {
 }  // namespace
 
 void step_exact(Model& m, bool fourth_order, Share& sh) {
-  exact_points(m.point, m, sh.all[PointGroup::kIndex]);
+  exact_points(m.point, m, sh.run[PointGroup::kIndex]);
   exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
   exact_loaded(m.iso, m, fourth_order, sh.run[IsoGroup::kIndex][1]);
   exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
