@@ -178,7 +178,6 @@ void exact_quiet(G& g, const Model& m, Range r) {
 // increment is made before any is applied: the order of the scalar code per body.
 void exact_quiet(IsoGroup& g, const Model& m, Range r) {
   const double h = m.dt;
-  // Chunks of a multiple of 4 bodies: only the range's last leaves a remainder to the scalar code.
   for (int begin = r.begin; begin < r.end; begin += kQuietChunk) {
     const int end = std::min(begin + kQuietChunk, r.end);
     translate_quiet(g, m, begin, end);
@@ -193,28 +192,37 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
         }
       }
       if (!g.dq_ok[i]) {
-        g.dq[i] = quat_exp(h * g.motion[i].spin);
+        g.dq.set(i, quat_exp(h * g.motion[i].spin));
         g.dq_ok[i] = 1;
       }
     }
-    int i = begin;
-    if (m.lanes >= 4 && end - begin >= 4) {
-      static_assert(sizeof(Quat) == 4 * sizeof(double));
-      const int n = (end - begin) / 4 * 4;
-      char* q = reinterpret_cast<char*>(g.motion[i].q.coeffs().data());
-      const double* dq = g.dq[i].coeffs().data();
-      if (m.lanes == 8) {
-        lanes8::iso_drift(q, sizeof(Motion), dq, n);
-      } else {
-        lanes4::iso_drift(q, sizeof(Motion), dq, n);
+    // The kernel takes whole blocks of increments: the bodies before the first block boundary
+    // (none when the range starts on one, as the quiet runs' slices do) and after the last take
+    // the scalar code.
+    const auto scalar = [&](int from, int to) {
+      for (int i = from; i < to; ++i) {
+        Motion& b = g.motion[i];
+        b.q = b.q * g.dq.get(i);
+        renormalize(b.q);
       }
-      i += n;
+    };
+    int i = begin;
+    if (m.lanes >= 4) {
+      const int first = std::min((begin + 3) / 4 * 4, end);
+      scalar(begin, first);
+      static_assert(sizeof(Quat) == 4 * sizeof(double));
+      const int n = (end - first) / 4 * 4;
+      if (n > 0) {
+        char* q = reinterpret_cast<char*>(g.motion[first].q.coeffs().data());
+        if (m.lanes == 8) {
+          lanes8::iso_drift(q, sizeof(Motion), g.dq.block(first), n);
+        } else {
+          lanes4::iso_drift(q, sizeof(Motion), g.dq.block(first), n);
+        }
+      }
+      i = first + n;
     }
-    for (; i < end; ++i) {
-      Motion& b = g.motion[i];
-      b.q = b.q * g.dq[i];
-      renormalize(b.q);
-    }
+    scalar(i, end);
   }
 }
 

@@ -8,9 +8,10 @@
 // The kernel loads four bodies' quaternions where they are stored (Motion, structure of arrays
 // would need every integrator changed), transposes them into four lanes of w, x, y, z, does the
 // four products side by side and transposes back: measured standalone on this machine, 5.1-6.0 ns
-// a body scalar against 2.1-2.6 ns so. (Gathering them with AVX-512's gather and scatter
-// instead was no faster than the scalar code on this AMD EPYC: 4.8-5.8 ns; the same product on
-// quaternions already stored as structure of arrays, 0.9-1.1 ns.)
+// a body scalar against 2.1-2.6 ns so. The increments, which only this step reads, are stored
+// component by component already (IncrementBlock). (Gathering them with AVX-512's gather and
+// scatter instead was no faster than the scalar code on this AMD EPYC: 4.8-5.8 ns; the same product
+// on quaternions already stored as structure of arrays, 0.9-1.1 ns.)
 //
 // The kernel restates the scalar arithmetic operation for operation (Eigen's SSE2 quaternion
 // product and sum of squares, as rotor_lanes_kernel.cpp does; math.hpp's renormalize), so every
@@ -24,16 +25,22 @@
 
 namespace rigid::physics::detail {
 
+// Four bodies' increments dq, component by component, as the kernel reads them (no transpose):
+// IsoGroup::dq keeps them so (model.hpp: IsoIncrements).
+struct alignas(32) IncrementBlock {
+  double x[4], y[4], z[4], w[4];
+};
+
 // n bodies (a multiple of 4): body k's quaternion (coefficients x, y, z, w, as Eigen stores them)
-// at q + k * stride bytes, its increment at dq + 4 k doubles.
+// at q + k * stride bytes, its increment in dq[k / 4], lane k % 4.
 namespace lanes8 {
-void iso_drift(char* q, std::ptrdiff_t stride, const double* dq, int n);
+void iso_drift(char* q, std::ptrdiff_t stride, const IncrementBlock* dq, int n);
 }
 namespace lanes4 {
-void iso_drift(char* q, std::ptrdiff_t stride, const double* dq, int n);
+void iso_drift(char* q, std::ptrdiff_t stride, const IncrementBlock* dq, int n);
 }
 namespace lanes2 {
-void iso_drift(char* q, std::ptrdiff_t stride, const double* dq, int n);
+void iso_drift(char* q, std::ptrdiff_t stride, const IncrementBlock* dq, int n);
 }
 
 }  // namespace rigid::physics::detail

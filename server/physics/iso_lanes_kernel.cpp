@@ -54,19 +54,18 @@ inline void store(void* p, const D4& v) {
 
 }  // namespace
 
-void iso_drift(char* q, std::ptrdiff_t stride, const double* dq, int n) {
-  for (int k = 0; k < n; k += 4, q += 4 * stride, dq += 16) {
+void iso_drift(char* q, std::ptrdiff_t stride, const IncrementBlock* dq, int n) {
+  for (int k = 0; k < n; k += 4, q += 4 * stride, ++dq) {
     D4 ax, ay, az, aw, bx, by, bz, bw;
     load(ax, q);
     load(ay, q + stride);
     load(az, q + 2 * stride);
     load(aw, q + 3 * stride);
     transpose(ax, ay, az, aw);
-    load(bx, dq);
-    load(by, dq + 4);
-    load(bz, dq + 8);
-    load(bw, dq + 12);
-    transpose(bx, by, bz, bw);
+    load(bx, dq->x);
+    load(by, dq->y);
+    load(bz, dq->z);
+    load(bw, dq->w);
     // Eigen's quaternion product a b, SSE2 path (Geometry_SIMD.h), terms paired as there.
     D4 w = (aw * bw - ay * by) - (az * bz + ax * bx);
     D4 x = (aw * bx + ay * bz) - (az * by - ax * bw);

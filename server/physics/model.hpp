@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "physics/free_rotor.hpp"
+#include "physics/iso_lanes.hpp"
 #include "physics/loads.hpp"
 #include "physics/rotor_plans.hpp"
 #include "physics/translation.hpp"
@@ -170,11 +171,46 @@ struct PointGroup : Group {
   static constexpr int kIndex = 0;
 };
 
+// The isotropic bodies' cached rotation increments, four to a block component by component, so
+// that the kernel (iso_lanes.hpp) loads each component of four bodies as one vector. get and set
+// copy one entry out and in exactly.
+class IsoIncrements {
+ public:
+  void push_back(const Quat& dq) {
+    if (size_ % 4 == 0) blocks_.emplace_back();
+    set(size_++, dq);
+  }
+  Quat get(int i) const {
+    const IncrementBlock& b = blocks_[static_cast<std::size_t>(i / 4)];
+    const int l = i % 4;
+    return Quat(b.w[l], b.x[l], b.y[l], b.z[l]);
+  }
+  void set(int i, const Quat& dq) {
+    IncrementBlock& b = blocks_[static_cast<std::size_t>(i / 4)];
+    const int l = i % 4;
+    b.x[l] = dq.x();
+    b.y[l] = dq.y();
+    b.z[l] = dq.z();
+    b.w[l] = dq.w();
+  }
+  void swap(int i, int j) {
+    const Quat a = get(i);
+    set(i, get(j));
+    set(j, a);
+  }
+  // The block holding entries i .. i + 3 (i a multiple of 4).
+  const IncrementBlock* block(int i) const { return &blocks_[static_cast<std::size_t>(i / 4)]; }
+
+ private:
+  std::vector<IncrementBlock> blocks_;
+  int size_ = 0;
+};
+
 struct IsoGroup : Group {
   static constexpr int kIndex = 1;
   Shared<IsoRot> rot;
   // Exact-rotation cache: exp(h w) for the current w, valid while no torque or impulse changes w.
-  std::vector<Quat> dq;
+  IsoIncrements dq;
   std::vector<std::uint8_t> dq_ok;
 };
 

@@ -452,7 +452,7 @@ void World::Impl::compile(const WorldSpec& spec) {
         break;
       case BodyModel::kIsotropic:
         iso_rots.push_back(iso);
-        model.iso.dq.emplace_back(Quat::Identity());
+        model.iso.dq.push_back(Quat::Identity());
         model.iso.dq_ok.push_back(0);
         break;
       case BodyModel::kAxisymmetric:
@@ -553,7 +553,7 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
     case BodyModel::kPoint:
       break;
     case BodyModel::kIsotropic:
-      sw(model.iso.rot.of), sw(model.iso.dq), sw(model.iso.dq_ok);
+      sw(model.iso.rot.of), model.iso.dq.swap(a, b), sw(model.iso.dq_ok);
       break;
     case BodyModel::kAxisymmetric:
       sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
