@@ -131,7 +131,9 @@ void translate_quiet(G& g, const Model& m, int begin, int end) {
                                tc.p1,
                                tc.q2};
     char* x = reinterpret_cast<char*>(g.motion[i].x.data());
-    const char* f = reinterpret_cast<const char*>(g.loads[i].f_W.data());
+    // No force in W on any quiet body of the group: the kernel reads none (Group::quiet_pushed).
+    const char* f =
+        g.quiet_pushed == 0 ? nullptr : reinterpret_cast<const char*>(g.loads[i].f_W.data());
     if (m.lanes == 8) {
       lanes8::translate_quiet(x, sizeof(Motion), f, sizeof(LoadHead), st, j - i);
     } else {

@@ -26,7 +26,8 @@ struct SharedTranslation {
 };
 
 // n bodies: body k's position at x + k * stride bytes, its velocity the three doubles after it
-// and then at least one more double (Motion's spin); its force in W at f + k * f_stride bytes.
+// and then at least one more double (Motion's spin); its force in W at f + k * f_stride bytes, or
+// +0.0 for every body when f is null (then nothing is read for it).
 namespace lanes8 {
 void translate_quiet(char* x, std::ptrdiff_t stride, const char* f, std::ptrdiff_t f_stride,
                      const SharedTranslation& s, int n);

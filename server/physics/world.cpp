@@ -574,6 +574,8 @@ void World::Impl::place(int id) {
   Group& g = group(s.model);
   const bool quiet = g.load(s.index).quiet();
   if (quiet == (s.index < g.quiet_end)) return;
+  // Only this body crosses the boundary (the entry it swaps with stays in its run).
+  if (Group::pushed(g.loads[s.index].f_W)) g.quiet_pushed += quiet ? 1 : -1;
   if (quiet) {
     swap_entries(s.model, s.index, g.quiet_end);
     ++g.quiet_end;
