@@ -105,7 +105,7 @@ struct Group {
   int quiet_end = 0;
   // How many entries of the quiet run have a force in W (f_W not all zero bits): when none has,
   // the quiet translation reads no loads at all (translate_quiet; reading each body's 32 B head
-  // was ~12% of a free sphere's step). set_load and World::Impl::place keep it.
+  // was a tenth to a sixth of a free sphere's step). set_load and World::Impl::place keep it.
   int quiet_pushed = 0;
   std::vector<int> id;  // body id of each entry
   std::vector<Motion> motion;
