@@ -415,8 +415,10 @@ try {
   await until('trails', () => rv('window.rigidView.trails > 0 && window.rigidView.trails <= 16'), 3000);
 
   // The plots: drift samples (the selected body's, else the largest) and lateness per Stats.
+  // Selecting the pill above cleared the drift chart (received counts since the page opened), so
+  // wait for it to hold a sample again.
   const plots = await until('the plots to receive data',
-                            () => rv('(() => { const p = window.rigidView.plots(); return p.drift > 10 && p.lateness > 0 ? p : null; })()'), 5000);
+                            () => rv('(() => { const p = window.rigidView.plots(); return p.drift > 10 && p.lateness > 0 && p.lastDrift && p.lastLateness ? p : null; })()'), 5000);
   if (!plots.lastDrift.every(Number.isFinite) || !(plots.lastLateness[0] >= 0)) throw new Error(`plots: ${JSON.stringify(plots)}`);
 
   // Garbage from a page: refused with a reason, counted.
