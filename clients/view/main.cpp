@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "drift.hpp"
 #include "loop/wrench_table.hpp"
 #include "playback_viewer.hpp"
 #include "protocol.hpp"
@@ -42,7 +43,8 @@ constexpr auto kControlPatience = 3s;
 constexpr double kPushTtl = 0.1;         // s of simulated time; re-sent each frame
 constexpr auto kMinPushInterval = 10ms;  // per page
 constexpr std::size_t kMaxPushingPages = 64;
-constexpr std::size_t kMaxWrenchesKept = 1024;  // accepted wrenches held for the pages' arrows
+constexpr std::size_t kMaxWrenchesKept = 1024;   // accepted wrenches held for the pages' arrows
+constexpr std::size_t kMaxPendingDrives = 4096;  // wrenches not yet told to the drift tracker
 
 // web/ next to the executable (the build tree), else ../share/rigid/web from it (cmake --install).
 std::filesystem::path default_web_dir() {
@@ -136,6 +138,7 @@ class Viewer {
   void accepted(const AcceptedCommand& a) {
     if (a.kind != AcceptedKind::kWrench) return;
     const std::lock_guard lock(mutex_);
+    if (drives_.size() < kMaxPendingDrives) drives_.push_back(Drive{a.body_id, a.tick, a.ttl});
     const WrenchKey key{a.source, a.body_id, a.key};
     if (wrenches_.size() >= kMaxWrenchesKept && !wrenches_.contains(key)) {
       auto oldest = wrenches_.begin();  // full (a flood of keys): the oldest makes room
@@ -145,6 +148,12 @@ class Viewer {
     }
     wrenches_[key] = a;
     wrenches_changed_ = true;
+  }
+
+  // rigidd's ticks for a wrench's ttl (loop::ticks_to_live), or 0 when dt or ttl says nothing
+  // sensible (the drift tracker then takes the body for driven until a reset).
+  static std::int64_t ticks_of(double ttl, double dt) {
+    return dt > 0 && ttl >= 0 && ttl / dt <= 1e12 ? loop::ticks_to_live(ttl, dt) : 0;
   }
 
   // Pump thread, mutex held: the accepted wrenches still acting at `tick` (for rigidd's
@@ -212,6 +221,13 @@ class Viewer {
     if (it != last_push_.end() && now - it->second < kMinPushInterval) return;  // too often
     if (it == last_push_.end() && last_push_.size() >= kMaxPushingPages) last_push_.clear();
     last_push_[page] = now;
+    {
+      // The push acts from the tick rigidd accepts it at; the accepted stream says which, but may
+      // come after the states it acted on: the newest state's tick is a lower bound for it.
+      const std::lock_guard lock(mutex_);
+      if (latest_ && drives_.size() < kMaxPendingDrives)
+        drives_.push_back(Drive{c.body, latest_->tick, kPushTtl});
+    }
     WrenchCommand w;
     w.key = static_cast<std::int32_t>(page & 0x7fffffff);  // one wrench per page and body
     w.body_id = c.body;
@@ -284,6 +300,14 @@ class Viewer {
       fresh_ = false;
       const StateFrame state = *latest_;
       const auto generation = static_cast<std::uint32_t>(generation_);
+      if (generation_ != drift_generation_ && scene_) {
+        drift_.set_scene(*scene_);
+        drift_generation_ = generation_;
+      }
+      const double dt = scene_ && scene_->dt > 0 ? scene_->dt : 0;
+      for (const Drive& d : drives_)
+        drift_.drive(d.body, d.tick, ticks_of(d.ttl, dt));
+      drives_.clear();
       std::optional<std::vector<AcceptedCommand>> wrenches;
       if (Clock::now() >= next_wrenches_) {
         wrenches = acting_wrenches(state.tick);
@@ -295,8 +319,9 @@ class Viewer {
         wrenches_text_ = wrenches_text;
       }
       lock.unlock();
-      server_->broadcast_state(
-          std::make_shared<const std::string>(view::encode_state(state, generation)));
+      drift_.update(state);
+      server_->broadcast_state(std::make_shared<const std::string>(
+          view::encode_state(state, generation, drift_.energy(), drift_.momentum())));
       if (wrenches_text) server_->broadcast_text(std::move(wrenches_text));
       lock.lock();
     }
@@ -320,6 +345,16 @@ class Viewer {
   std::map<WrenchKey, AcceptedCommand> wrenches_;
   bool wrenches_changed_ = false;
   Clock::time_point next_wrenches_{};  // pump thread only
+  // Each body's drift since its reference (drift.hpp), kept by the pump thread from the states it
+  // sends; the wrenches that restart a body's reference come from the bus and server threads.
+  struct Drive {
+    std::int32_t body;
+    std::int64_t tick;
+    double ttl;
+  };
+  std::vector<Drive> drives_;
+  view::DriftTracker drift_;            // pump thread only
+  std::uint64_t drift_generation_ = 0;  // pump thread only
   std::thread pump_, worker_;
 };
 

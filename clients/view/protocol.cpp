@@ -26,6 +26,9 @@ void put_i64(std::string& out, std::int64_t v) {
 void put_f64s(std::string& out, const double* v, std::size_t n) {
   out.append(reinterpret_cast<const char*>(v), n * sizeof(double));
 }
+void put_f32s(std::string& out, const float* v, std::size_t n) {
+  out.append(reinterpret_cast<const char*>(v), n * sizeof(float));
+}
 
 void number(std::string& out, double v) {
   if (!std::isfinite(v)) {
@@ -169,28 +172,47 @@ bool whole(double v, double lo, double hi) {
 
 }  // namespace
 
-std::string encode_state(const StateFrame& state, std::uint32_t scene_generation) {
+bool state_in_float32(std::size_t bodies) {
+  return bodies > kExactStateMaxBodies;
+}
+
+std::string encode_state(const StateFrame& state, std::uint32_t scene_generation,
+                         const std::vector<float>& energy_drift,
+                         const std::vector<float>& momentum_drift) {
   const std::size_t n = state.ids.size();
+  const bool f32 = state_in_float32(n);
   std::string out;
-  out.reserve(kStateHeaderBytes + kStateBytesPerBody * n);
+  out.reserve(kStateHeaderBytes + state_bytes_per_body(n) * n);
   put_u32(out, kStateMagic);
   put_u32(out, static_cast<std::uint32_t>(n));
   put_u32(out, scene_generation);
-  put_u32(out, 0);
+  put_u32(out, f32 ? kStateFloat32 : 0);
   put_i64(out, state.tick);
   const double t = state.sim_time;
   put_f64s(out, &t, 1);
   put_i64(out, state.stamp_ns);
   // Each array at its place; a short one (a decoder guarantees they are not) is padded with zeros.
+  std::vector<float> narrow;
   const auto array = [&](const std::vector<double>& v, std::size_t per_body) {
-    const std::size_t at = out.size();
-    put_f64s(out, v.data(), std::min(v.size(), per_body * n));
-    out.resize(at + per_body * n * sizeof(double), '\0');
+    const std::size_t at = out.size(), have = std::min(v.size(), per_body * n);
+    if (f32) {
+      narrow.assign(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(have));
+      put_f32s(out, narrow.data(), have);
+      out.resize(at + per_body * n * sizeof(float), '\0');
+    } else {
+      put_f64s(out, v.data(), have);
+      out.resize(at + per_body * n * sizeof(double), '\0');
+    }
   };
   array(state.position, 3);
   array(state.orientation, 4);
   array(state.linear_velocity, 3);
   array(state.angular_velocity, 3);
+  for (const std::vector<float>* drift : {&energy_drift, &momentum_drift}) {
+    const std::size_t at = out.size();
+    put_f32s(out, drift->data(), std::min(drift->size(), n));
+    out.resize(at + n * sizeof(float), '\0');
+  }
   out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
   return out;
 }

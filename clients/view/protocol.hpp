@@ -1,12 +1,17 @@
 // What rigid-view and its page say to each other over the WebSocket, as pure functions (no I/O):
 // the binary state frame, the JSON texts (scene, stats, answers) and the page's commands, checked.
 //
-// State frame (binary, little-endian, 8-byte aligned so that the page reads it as typed arrays):
-//   u32 magic kStateMagic, u32 n (bodies), u32 scene generation, u32 0, i64 tick, f64 sim_time,
-//   i64 stamp_ns (rigidd's wall clock at publish: the page's latency), f64 position[3n] (p_WBo),
-//   f64 orientation[4n] (q_WB as w, x, y, z), f64 linear_velocity[3n] (v_WBo in W), f64
-//   angular_velocity[3n] (w_WB in W, as rigidd publishes it: msgs/rigid.idl), i32 id[n]. Total
-//   kStateHeaderBytes + kStateBytesPerBody n.
+// State frame (binary, little-endian, each array aligned to its type so that the page reads it
+// as typed arrays):
+//   u32 magic kStateMagic, u32 n (bodies), u32 scene generation, u32 flags, i64 tick, f64
+//   sim_time, i64 stamp_ns (rigidd's wall clock at publish: the page's latency), real
+//   position[3n] (p_WBo), real orientation[4n] (q_WB as w, x, y, z), real linear_velocity[3n]
+//   (v_WBo in W), real angular_velocity[3n] (w_WB in W, as rigidd publishes it: msgs/rigid.idl),
+//   f32 energy_drift[n], f32 momentum_drift[n] (relative, since each body's reference: drift.hpp),
+//   i32 id[n]. real is f64, the published doubles, for scenes of up to kExactStateMaxBodies
+//   bodies, and f32 (flag kStateFloat32) for larger ones: what the page's GPU draws anyway, and
+//   the bytes are what a large scene's state costs on the way (bench/view/README.md). Total
+//   kStateHeaderBytes + state_bytes_per_body(n) n.
 // Page commands (text, at most kMaxCommandBytes, one flat JSON object):
 //   {"op":"pause"|"resume"|"reset","id":N}   {"op":"step","id":N,"steps":K}
 //   {"op":"push","body":ID,"force":[x,y,z],"point":[x,y,z]}   (force in W, point from the CoM in B)
@@ -29,17 +34,24 @@
 
 namespace rigid::view {
 
-inline constexpr std::uint32_t kStateMagic = 0x32565752;  // "RWV2" (with velocities)
+inline constexpr std::uint32_t kStateMagic = 0x33565752;  // "RWV3" (with drifts, f32 or f64)
 inline constexpr std::size_t kStateHeaderBytes = 40;
-inline constexpr std::size_t kStateBytesPerBody = 13 * 8 + 4;
+inline constexpr std::uint32_t kStateFloat32 = 1;  // flags: the per-body reals are f32
+inline constexpr std::size_t kExactStateMaxBodies = 256;
+// Whether a state of this many bodies goes to the page in float32, and its bytes per body.
+bool state_in_float32(std::size_t bodies);
+inline std::size_t state_bytes_per_body(std::size_t bodies) {
+  return 13 * (state_in_float32(bodies) ? 4 : 8) + 2 * 4 + 4;
+}
 // Accepted wrenches forwarded to the pages: at most this many per message (the newest), at most
 // kWrenchRate messages a second (rigid-view keeps the newest per source, body and key).
 inline constexpr std::size_t kMaxWrenchesShown = 64;
 inline constexpr double kWrenchRate = 20;
 inline constexpr std::size_t kMaxCommandBytes = 512;
 // A page acknowledges each state frame once it has drawn it; rigid-view sends a page at most
-// kMaxUnackedStates frames ahead of its acks (server.hpp), so a slow page's states wait (newest
-// only) in rigid-view instead of in TCP buffers, where they would add seconds of latency.
+// kMaxUnackedStates frames (and kMaxUnackedBytes) ahead of its acks (server.hpp), so a slow page's
+// states wait (newest only) in rigid-view instead of in TCP buffers, where they would add seconds
+// of latency.
 inline constexpr std::string_view kAckCommand = R"({"op":"ack"})";
 inline constexpr std::int64_t kMaxSteps = 1'000'000;
 inline constexpr std::int64_t kMaxCommandId = (std::int64_t{1} << 53);  // exact in JavaScript
@@ -50,8 +62,11 @@ inline constexpr double kMinPlaybackSpeed = 1.0 / 64;
 inline constexpr double kMaxPlaybackSpeed = 64;
 inline constexpr double kMaxSeekTime = 1e12;
 
-// The state as the page reads it.
-std::string encode_state(const StateFrame& state, std::uint32_t scene_generation);
+// The state as the page reads it, with each body's drifts in the state's order (DriftTracker;
+// missing ones are sent as 0).
+std::string encode_state(const StateFrame& state, std::uint32_t scene_generation,
+                         const std::vector<float>& energy_drift,
+                         const std::vector<float>& momentum_drift);
 
 // {"type":"scene", ...}: each body's id, name and what to draw: "box" (size), "sphere",
 // "cylinder", "capsule", "ellipsoid" (dims as in SceneDescription), or for a body without a shape

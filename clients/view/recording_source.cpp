@@ -5,7 +5,9 @@
 #include <map>
 #include <utility>
 
+#include "drift.hpp"
 #include "loop/state_conversion.hpp"
+#include "loop/wrench_table.hpp"
 #include "physics/world.hpp"
 #include "protocol.hpp"
 #include "record/export_csv.hpp"
@@ -60,6 +62,7 @@ class Builder {
     }
     if (!r_.scenes.empty() && states_place_wrenches_) r_.wrenches.scene_changed();
     r_.scenes.push_back(d);
+    drift_.set_scene(d);
   }
 
   // An accepted command, in file order (only wrenches and resets matter to the arrows).
@@ -77,6 +80,17 @@ class Builder {
     }
     r_.bytes += cost;
     r_.wrenches.command(a, r_.scenes.empty() ? 0.0 : r_.scenes.back().dt);
+    if (states_place_wrenches_ && a.kind == AcceptedKind::kWrench) drive(a.body_id, a.tick, a.ttl);
+  }
+
+  // A wrench's body is driven from its tick (drift.hpp): its work is not drift. A recording's
+  // commands are read with its states (a command usually before the states it acts on: rigidd
+  // publishes it when it accepts it); a journal's are given by from_journal before the states
+  // they precede.
+  void drive(std::int32_t body, std::int64_t tick, double ttl) {
+    const double dt = r_.scenes.empty() ? 0.0 : r_.scenes.back().dt;
+    const bool known = dt > 0 && ttl >= 0 && ttl / dt <= 1e12;
+    drift_.drive(body, tick, known ? loop::ticks_to_live(ttl, dt) : 0);
   }
 
   // `s` is the reader's frame: its stamp is cleared (see below).
@@ -87,7 +101,9 @@ class Builder {
     // The stamp (rigidd's wall clock at publish) is what the page measures its latency from; a
     // recording's stamps are from when it was made: 0 says there is none to measure.
     s.stamp_ns = 0;
-    auto frame = std::make_shared<const std::string>(encode_state(s, Recording::generation(scene)));
+    drift_.update(s);
+    auto frame = std::make_shared<const std::string>(
+        encode_state(s, Recording::generation(scene), drift_.energy(), drift_.momentum()));
     // The frame, its string and shared_ptr (with its control block, about as big), its index entry.
     const std::size_t cost = frame->size() + sizeof(std::string) +
                              2 * sizeof(std::shared_ptr<const std::string>) + sizeof(RecordedState);
@@ -127,6 +143,7 @@ class Builder {
   bool states_place_wrenches_;
   double offset_ = 0;
   std::uint32_t stretch_ = 0;
+  DriftTracker drift_;  // each state's drifts, computed once here as live mode computes them
 };
 
 // A journal's commands, placed by its StateHash records (the states rigidd published, in the
@@ -176,7 +193,40 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
   sim::ReplayReport report;
   try {
     add.scene(journal_scene(r.path, header));
+    // The wrenches, each with the number of published states journaled before it: it drives its
+    // body from the state after those (drift.hpp).
+    struct Drive {
+      std::size_t before_state;
+      std::int32_t body;
+      std::int64_t tick;
+      double ttl;
+    };
+    std::vector<Drive> drives;
+    {
+      records::RecordReader reader(r.path);
+      msgs::LogRecord record;
+      std::size_t hashes = 0;
+      AcceptedCommand a;
+      while (reader.next(record)) {
+        if (record.has_state_hash()) {
+          ++hashes;
+        } else if (record.has_command()) {
+          records::from_record(record.command(), a);
+          if (a.kind != AcceptedKind::kWrench) continue;
+          if ((drives.size() + 1) * sizeof(Drive) > limits.max_bytes) {
+            throw RecordingError(r.path + ": its wrenches need more than " +
+                                 megabytes(limits.max_bytes) +
+                                 " in memory (--max-memory raises the limit)");
+          }
+          drives.push_back(Drive{hashes, a.body_id, a.tick, a.ttl});
+        }
+      }
+    }
+    std::size_t states = 0, next_drive = 0;
     report = sim::replay(o, [&](const StateFrame& s) {
+      for (; next_drive < drives.size() && drives[next_drive].before_state <= states; ++next_drive)
+        add.drive(drives[next_drive].body, drives[next_drive].tick, drives[next_drive].ttl);
+      ++states;
       frame = s;
       add.state(frame);
     });

@@ -80,6 +80,10 @@ class Page : public std::enable_shared_from_this<Page> {
 
   void accept(http::request<http::string_body> request) {
     beast::get_lowest_layer(ws_).expires_never();
+    // A state frame's last partial segment must not wait for the page's ACK of the one before
+    // (Nagle's algorithm against the receiver's delayed ACK: up to 40 ms on Linux).
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().set_option(tcp::no_delay(true), ignored);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.read_message_max(kMaxCommandBytes);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
@@ -136,7 +140,10 @@ class Page : public std::enable_shared_from_this<Page> {
     if (!text) {
       refuse("binary frames are not accepted");
     } else if (frame == kAckCommand) {
-      if (unacked_ > 0) --unacked_;  // (more acks than states: ignored)
+      if (!unacked_.empty()) {  // (more acks than states: ignored)
+        unacked_bytes_ -= unacked_.front();
+        unacked_.pop_front();
+      }
       write_next();
     } else {
       auto parsed = parse_command(frame);
@@ -186,10 +193,13 @@ class Page : public std::enable_shared_from_this<Page> {
       next = std::move(texts_.front());
       texts_.pop_front();
       text = true;
-    } else if (state_ && unacked_ < ViewServer::kMaxUnackedStates) {
+    } else if (state_ && (unacked_.empty() ||
+                          (unacked_.size() < ViewServer::kMaxUnackedStates &&
+                           unacked_bytes_ + state_->size() <= ViewServer::kMaxUnackedBytes))) {
       next = std::move(state_);
       state_.reset();
-      ++unacked_;
+      unacked_.push_back(next->size());
+      unacked_bytes_ += next->size();
     } else {
       return;
     }
@@ -218,7 +228,8 @@ class Page : public std::enable_shared_from_this<Page> {
   std::deque<Bytes> texts_;
   Bytes state_;
   bool writing_ = false;
-  int unacked_ = 0;  // state frames written and not yet acknowledged
+  std::deque<std::size_t> unacked_;  // sizes of the state frames written and not yet acknowledged
+  std::size_t unacked_bytes_ = 0;
   bool open_ = false;
   bool closed_ = false;
   std::size_t bad_frames_ = 0;

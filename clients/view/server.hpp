@@ -2,13 +2,15 @@
 // files from memory (a fixed list, loaded at start) and one WebSocket per page at /ws.
 //
 // Each page connection has a "latest state" slot and a short queue of texts: a state that arrives
-// while the previous one is still being written, or while the page has kMaxUnackedStates frames
-// not yet acknowledged as drawn, replaces the one waiting (dropped, counted), so a slow page gets
-// fewer frames and never an unbounded queue, in rigid-view or in the sockets' buffers. Texts
-// (scene, stats, answers) queue up to kMaxQueuedTexts; beyond that the oldest is dropped.
+// while the previous one is still being written, or while the page has frames not yet
+// acknowledged as drawn (kMaxUnackedStates, kMaxUnackedBytes), replaces the one waiting (dropped,
+// counted), so a slow page gets fewer frames and never an unbounded queue, in rigid-view or in the
+// sockets' buffers. Texts (scene, stats, answers) queue up to kMaxQueuedTexts; beyond that the
+// oldest is dropped.
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -53,8 +55,12 @@ class ViewServer {
   static constexpr std::size_t kMaxQueuedTexts = 64;
   static constexpr std::size_t kMaxBadFrames = 20;  // then the page is disconnected
   // State frames written to a page and not yet acknowledged ({"op":"ack"}, protocol.hpp): more
-  // wait in its newest-only slot. Two: one being drawn while the next travels.
-  static constexpr int kMaxUnackedStates = 2;
+  // wait in its newest-only slot. Two, one being drawn while the next travels, as long as the two
+  // hold at most kMaxUnackedBytes; else one. A large scene's frame (10^4 bodies: 640 KB) costs the
+  // browser more to carry than to draw, and a page drawing one frame while two arrive paid for
+  // states it never showed: 23 fps with one in flight, 21 with two (bench/view/README.md).
+  static constexpr std::size_t kMaxUnackedStates = 2;
+  static constexpr std::size_t kMaxUnackedBytes = std::size_t{256} << 10;
 
   // Called on the server thread for each valid command of a page (never with --read-only, except
   // that push is refused there too). `reply` sends a text to that page only (any thread).

@@ -77,15 +77,16 @@ TEST(ViewProtocol, StateFrameLayout) {
   s.position = {1, 2, 3, 4, 5, 6};
   s.orientation = {1, 0, 0, 0, 0.5, 0.5, 0.5, 0.5};
   s.linear_velocity = {-1, -2, -3, -4, -5, -6};
-  s.angular_velocity = {10, 20, 30, 40, 50, 60};
-  const std::string f = encode_state(s, 3);
-  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * (13 * 8 + 4));
-  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * kStateBytesPerBody);
+  s.angular_velocity = {10, 20, 30, 40, 50, 60.000000000000007};
+  const std::string f = encode_state(s, 3, {1e-12f, 2.5f}, {0.25f, 3e-9f});
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * (13 * 8 + 2 * 4 + 4));
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 2 * state_bytes_per_body(2));
   std::uint32_t u[4];
   std::memcpy(u, f.data(), 16);
   EXPECT_EQ(u[0], kStateMagic);
   EXPECT_EQ(u[1], 2u);
   EXPECT_EQ(u[2], 3u);
+  EXPECT_EQ(u[3], 0u);  // the published doubles
   std::int64_t tick;
   double t;
   std::memcpy(&tick, f.data() + 16, 8);
@@ -96,12 +97,15 @@ TEST(ViewProtocol, StateFrameLayout) {
   std::memcpy(&stamp, f.data() + 32, 8);
   EXPECT_EQ(stamp, 1'700'000'000'123'456'789);
   double pos[6], ori[8], vel[6], omega[6];
+  float energy[2], momentum[2];
   std::int32_t ids[2];
   const char* at = f.data() + kStateHeaderBytes;
   for (auto [to, bytes] : {std::pair<void*, std::size_t>{pos, sizeof pos},
                            {ori, sizeof ori},
                            {vel, sizeof vel},
                            {omega, sizeof omega},
+                           {energy, sizeof energy},
+                           {momentum, sizeof momentum},
                            {ids, sizeof ids}}) {
     std::memcpy(to, at, bytes);
     at += bytes;
@@ -112,17 +116,94 @@ TEST(ViewProtocol, StateFrameLayout) {
   EXPECT_EQ(vel[5], -6);
   EXPECT_EQ(omega[0], 10);
   EXPECT_EQ(omega[4], 50);
+  EXPECT_EQ(omega[5], 60.000000000000007);  // to the last bit
+  EXPECT_EQ(energy[0], 1e-12f);
+  EXPECT_EQ(energy[1], 2.5f);
+  EXPECT_EQ(momentum[0], 0.25f);
+  EXPECT_EQ(momentum[1], 3e-9f);
   EXPECT_EQ(ids[0], 5);
   EXPECT_EQ(ids[1], 9);
 
-  // Arrays shorter than the ids (not from a decoder): zeros in their place, the layout kept.
+  // Arrays shorter than the ids (not from a decoder; drifts not given): zeros in their place,
+  // the layout kept.
   s.angular_velocity.clear();
-  const std::string g = encode_state(s, 3);
+  const std::string g = encode_state(s, 3, {}, {1.0f});
   ASSERT_EQ(g.size(), f.size());
   std::memcpy(omega, g.data() + kStateHeaderBytes + (3 + 4 + 3) * 2 * 8, sizeof omega);
   EXPECT_EQ(omega[4], 0);
+  std::memcpy(energy, g.data() + kStateHeaderBytes + 13 * 2 * 8, sizeof energy);
+  std::memcpy(momentum, g.data() + kStateHeaderBytes + 13 * 2 * 8 + 8, sizeof momentum);
+  EXPECT_EQ(energy[0], 0.0f);
+  EXPECT_EQ(energy[1], 0.0f);
+  EXPECT_EQ(momentum[0], 1.0f);
+  EXPECT_EQ(momentum[1], 0.0f);
   std::memcpy(ids, g.data() + g.size() - sizeof ids, sizeof ids);
   EXPECT_EQ(ids[1], 9);
+}
+
+// Scenes of more than kExactStateMaxBodies bodies go to the page in float32: each value the
+// nearest float to the published double, the same order of arrays, flagged in the header.
+TEST(ViewProtocol, LargeScenesStateFrameCarriesFloat32) {
+  for (const std::size_t n : {kExactStateMaxBodies, kExactStateMaxBodies + 1, std::size_t{10000}}) {
+    StateFrame s;
+    s.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      s.ids[i] = static_cast<std::int32_t>(7 * i + 1);
+      for (int k = 0; k < 3; ++k) {
+        s.position[3 * i + k] = 0.1 * static_cast<double>(i) + k + 1e-9;
+        s.linear_velocity[3 * i + k] = -0.3 * static_cast<double>(k) - 1.0 / 3;
+        s.angular_velocity[3 * i + k] = 1e-3 * static_cast<double>(i + k) + 2.0 / 3;
+      }
+      const double h = 0.001 * static_cast<double>(i);
+      s.orientation[4 * i] = std::cos(h);
+      s.orientation[4 * i + 3] = std::sin(h);
+    }
+    std::vector<float> e(n), m(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      e[i] = static_cast<float>(i) * 1e-14f;
+      m[i] = 1.0f / static_cast<float>(i + 1);
+    }
+    const std::string f = encode_state(s, 1, e, m);
+    const bool f32 = n > kExactStateMaxBodies;
+    ASSERT_EQ(state_in_float32(n), f32);
+    ASSERT_EQ(f.size(), kStateHeaderBytes + n * ((f32 ? 4 : 8) * 13 + 12)) << n;
+    std::uint32_t flags;
+    std::memcpy(&flags, f.data() + 12, 4);
+    EXPECT_EQ(flags, f32 ? kStateFloat32 : 0u);
+    const std::size_t real = f32 ? 4 : 8;
+    const auto value = [&](std::size_t array_at, std::size_t k) {
+      const char* p = f.data() + kStateHeaderBytes + array_at * real * n + k * real;
+      if (f32) {
+        float x;
+        std::memcpy(&x, p, 4);
+        return static_cast<double>(x);
+      }
+      double x;
+      std::memcpy(&x, p, 8);
+      return x;
+    };
+    const auto want = [&](double x) {
+      return f32 ? static_cast<double>(static_cast<float>(x)) : x;
+    };
+    for (std::size_t i = 0; i < n; i += n / 7 + 1) {
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(value(0, 3 * i + k), want(s.position[3 * i + k])) << n << " " << i;
+        EXPECT_EQ(value(7, 3 * i + k), want(s.linear_velocity[3 * i + k]));
+        EXPECT_EQ(value(10, 3 * i + k), want(s.angular_velocity[3 * i + k]));
+      }
+      for (int k = 0; k < 4; ++k)
+        EXPECT_EQ(value(3, 4 * i + k), want(s.orientation[4 * i + k]));
+      float de, dm;
+      std::int32_t id;
+      const char* d = f.data() + kStateHeaderBytes + 13 * real * n;
+      std::memcpy(&de, d + 4 * i, 4);
+      std::memcpy(&dm, d + 4 * n + 4 * i, 4);
+      std::memcpy(&id, d + 8 * n + 4 * i, 4);
+      EXPECT_EQ(de, e[i]);
+      EXPECT_EQ(dm, m[i]);
+      EXPECT_EQ(id, s.ids[i]);
+    }
+  }
 }
 
 TEST(ViewProtocol, StatsForTheHud) {

@@ -6,14 +6,14 @@
 // window.rigidView exposes what is drawn, for tests and for the console.
 import * as THREE from 'three';
 import { OrbitControls } from '/three/OrbitControls.js';
-import { Drift } from '/drift.js';
+import { DriftTable } from '/drift.js';
 import { StripChart } from '/plot.js';
 import { WorkerSocket } from '/worker_socket.js';
 import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
 
-const kMagic = 0x32565752;  // "RWV2": the frame with velocities (protocol.hpp)
+const kMagic = 0x33565752;  // "RWV3": reals f64, or f32 for large scenes; drifts (protocol.hpp)
 const kHeader = 40;  // bytes
-const kBytesPerBody = 13 * 8 + 4;
+const kFloat32 = 1;  // the header's flag: the per-body reals are f32
 const $ = (id) => document.getElementById(id);
 
 // Scenes of more than kManyBodies bodies are drawn for speed: without multisampling, with Lambert
@@ -626,13 +626,12 @@ function setImpostorScene(msg, groups) {
 // What follows a new scene, however it is drawn.
 function sceneSet(msg) {
   bodyList = msg.bodies.map((d) => bodies.get(d.id)).filter((b) => b);
-  drift.setBodies(bodyList, msg.gravity);
+  drift.setBodies(msg.bodies.length);
   sceneDt = Number.isFinite(msg.dt) && msg.dt > 0 ? msg.dt : 0;
   wrenches = [];
   select(null);
   hovered = null;
   clearTrails();
-  drivenUntil.clear();
   driftChart.clear();
   fillBodyList();
   debug.scene = { name: msg.name, generation: msg.generation, dt: msg.dt };
@@ -646,16 +645,20 @@ function applyState(buffer) {
   const v = new DataView(buffer);
   if (v.getUint32(0, true) !== kMagic) throw new Error('bad state frame');
   const n = v.getUint32(4, true);
-  if (buffer.byteLength !== kHeader + kBytesPerBody * n) throw new Error('state frame of the wrong length');
+  const f32 = (v.getUint32(12, true) & kFloat32) !== 0;
+  const real = f32 ? 4 : 8, Real = f32 ? Float32Array : Float64Array;
+  if (buffer.byteLength !== kHeader + (13 * real + 12) * n) throw new Error('state frame of the wrong length');
   const generation = v.getUint32(8, true);
   const tick = Number(v.getBigInt64(16, true));
   const simTime = v.getFloat64(24, true);
   const stampNs = v.getBigInt64(32, true);
-  const pos = new Float64Array(buffer, kHeader, 3 * n);
-  const ori = new Float64Array(buffer, kHeader + 24 * n, 4 * n);
-  const vel = new Float64Array(buffer, kHeader + 56 * n, 3 * n);
-  const omega = new Float64Array(buffer, kHeader + 80 * n, 3 * n);
-  const ids = new Int32Array(buffer, kHeader + 104 * n, n);
+  const pos = new Real(buffer, kHeader, 3 * n);
+  const ori = new Real(buffer, kHeader + 3 * real * n, 4 * n);
+  const vel = new Real(buffer, kHeader + 7 * real * n, 3 * n);
+  const omega = new Real(buffer, kHeader + 10 * real * n, 3 * n);
+  const energyDrift = new Float32Array(buffer, kHeader + 13 * real * n, n);
+  const momentumDrift = new Float32Array(buffer, kHeader + (13 * real + 4) * n, n);
+  const ids = new Int32Array(buffer, kHeader + (13 * real + 8) * n, n);
   const { m, one } = scratch;
   if (slots.length !== n) slots = new Int32Array(n);
   for (let i = 0; i < n; ++i) {
@@ -677,21 +680,7 @@ function applyState(buffer) {
     g.mesh.instanceMatrix.needsUpdate = true;
     g.mesh.boundingSphere = null;  // stale: recomputed by the next ray cast
   }
-  // A body a wrench acts on gains or loses energy and momentum by the wrench's work, which is no
-  // integration error: its reference is taken again until kDrivenMargin after the wrench ended
-  // (as the accepted stream says, or this page's own push: its ttl is kPushTtl).
-  const driven = (b, until) => {
-    if (b && !(drivenUntil.get(b.index) >= until)) drivenUntil.set(b.index, until);
-  };
-  for (const w of wrenches)
-    driven(bodies.get(w.body), (w.tick + Math.max(w.ttl / (sceneDt || 1), 1)) * sceneDt + kDrivenMargin);
-  if (grab) driven(grab.body, simTime + kPushTtl + kDrivenMargin);
-  if (simTime < lastSimTime) drivenUntil.clear();  // a reset
-  for (const [index, until] of drivenUntil) {
-    if (simTime > until) drivenUntil.delete(index);
-    else drift.rebaseBody(index);
-  }
-  drift.update(tick, n, slots, pos, ori, vel, omega);
+  drift.update(n, slots, energyDrift, momentumDrift);
   if (simTime < lastSimTime) clearTrails();  // reset: the trails would jump
   lastSimTime = simTime;
   addTrailPoints();
@@ -1124,11 +1113,8 @@ function follow() {
 
 // Plots: relative drift of energy and angular momentum (drift.js) of the selected body, or the
 // largest over all bodies, 10 samples a second; tick lateness p99 from each Stats report.
-const drift = new Drift();
+const drift = new DriftTable();
 let slots = new Int32Array(0);  // state slot -> scene index
-const drivenUntil = new Map();  // scene index -> sim time until which a wrench may act on it
-const kDrivenMargin = 0.25;     // s: a wrench the page learns of late (20 Hz, over the bus)
-const kPushTtl = 0.1;           // s: rigid-view's push ttl (main.cpp kPushTtl)
 let lastSimTime = -Infinity;
 let stateChanged = false;
 const driftChart = new StripChart($('plot-drift'), {
