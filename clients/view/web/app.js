@@ -109,7 +109,8 @@ const debug = {
     }
     return null;
   },
-  // A body's relative drift of energy and angular momentum since the reference state (drift.js).
+  // A body's relative drift of energy and angular momentum since its reference state, as
+  // rigid-view sends it (clients/view/drift.hpp).
   drift(name) {
     const b = bodyList.find((x) => x.name === name);
     return b ? drift.worst(b.index) : null;
@@ -1111,8 +1112,9 @@ function follow() {
   camera.position.add(delta);
 }
 
-// Plots: relative drift of energy and angular momentum (drift.js) of the selected body, or the
-// largest over all bodies, 10 samples a second; tick lateness p99 from each Stats report.
+// Plots: relative drift of energy and angular momentum (rigid-view's, drift.js) of the selected
+// body, or the largest over all bodies, 10 samples a second; tick lateness p99 from each Stats
+// report.
 const drift = new DriftTable();
 let slots = new Int32Array(0);  // state slot -> scene index
 let lastSimTime = -Infinity;
