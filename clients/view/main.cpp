@@ -150,12 +150,6 @@ class Viewer {
     wrenches_changed_ = true;
   }
 
-  // rigidd's ticks for a wrench's ttl (loop::ticks_to_live), or 0 when dt or ttl says nothing
-  // sensible (the drift tracker then takes the body for driven until a reset).
-  static std::int64_t ticks_of(double ttl, double dt) {
-    return dt > 0 && ttl >= 0 && ttl / dt <= 1e12 ? loop::ticks_to_live(ttl, dt) : 0;
-  }
-
   // Pump thread, mutex held: the accepted wrenches still acting at `tick` (for rigidd's
   // ticks_to_live(ttl, dt) ticks from theirs, as the page draws them), newest last; forgets the
   // others. Nothing when nothing changed.
@@ -304,9 +298,8 @@ class Viewer {
         drift_.set_scene(*scene_);
         drift_generation_ = generation_;
       }
-      const double dt = scene_ && scene_->dt > 0 ? scene_->dt : 0;
       for (const Drive& d : drives_)
-        drift_.drive(d.body, d.tick, ticks_of(d.ttl, dt));
+        drift_.drive(d.body, d.tick, d.ttl);
       drives_.clear();
       std::optional<std::vector<AcceptedCommand>> wrenches;
       if (Clock::now() >= next_wrenches_) {

@@ -7,7 +7,6 @@
 
 #include "drift.hpp"
 #include "loop/state_conversion.hpp"
-#include "loop/wrench_table.hpp"
 #include "physics/world.hpp"
 #include "protocol.hpp"
 #include "record/export_csv.hpp"
@@ -87,11 +86,7 @@ class Builder {
   // commands are read with its states (a command usually before the states it acts on: rigidd
   // publishes it when it accepts it); a journal's are given by from_journal before the states
   // they precede.
-  void drive(std::int32_t body, std::int64_t tick, double ttl) {
-    const double dt = r_.scenes.empty() ? 0.0 : r_.scenes.back().dt;
-    const bool known = dt > 0 && ttl >= 0 && ttl / dt <= 1e12;
-    drift_.drive(body, tick, known ? loop::ticks_to_live(ttl, dt) : 0);
-  }
+  void drive(std::int32_t body, std::int64_t tick, double ttl) { drift_.drive(body, tick, ttl); }
 
   // `s` is the reader's frame: its stamp is cleared (see below).
   void state(StateFrame& s) {

@@ -105,14 +105,15 @@ TEST(ViewDrift, AResetOrANewSceneTakesEveryReferenceAgain) {
 }
 
 TEST(ViewDrift, ADrivenBodysReferenceFollowsItUntilTheMarginAfterItsWrench) {
-  // dt = 10 ms: kDrivenMargin (0.25 s) is 25 ticks. A wrench accepted at tick 10 for 5 ticks acts
-  // on the states 11..15; body 20's reference is taken again with every state up to tick 40.
+  // dt = 10 ms: kDrivenMargin (0.25 s) is 25 ticks. A wrench accepted at tick 10 for 0.05 s (5
+  // ticks) acts on the states 11..15; body 20's reference is taken again with every state up to
+  // tick 40.
   DriftTracker t;
   t.set_scene(three_bodies(0.01));
   ASSERT_EQ(DriftTracker::kDrivenMargin, 0.25);
   t.update(state(10, {10, 20, 30}, 1));
-  t.drive(20, 10, 5);
-  t.drive(99, 10, 5);  // an id the scene does not have: nothing
+  t.drive(20, 10, 0.05);
+  t.drive(99, 10, 0.05);  // an id the scene does not have: nothing
   double v = 1;
   for (std::int64_t tick = 11; tick <= 40; ++tick) {
     v += 0.5;
@@ -125,9 +126,9 @@ TEST(ViewDrift, ADrivenBodysReferenceFollowsItUntilTheMarginAfterItsWrench) {
   EXPECT_FLOAT_EQ(t.energy()[1], 3.0f);
   t.update(state(42, {10, 20, 30}, v));
   EXPECT_EQ(t.energy()[1], 0.0f);
-  // A wrench of unknown length (ticks 0: a ttl too long for rigidd's table) drives its body
-  // until the next reset.
-  t.drive(10, 42, 0);
+  // A wrench whose ttl gives no sensible tick count (too long for rigidd's table) drives its
+  // body until the next reset.
+  t.drive(10, 42, 1e300);
   StateFrame far = state(100000, {10}, 0);
   far.linear_velocity[0] = 5;
   t.update(far);
