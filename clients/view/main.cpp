@@ -82,9 +82,12 @@ class Viewer {
 
   void start() {
     session_.on_each_state([this](const StateFrame& s) {
-      const std::lock_guard lock(mutex_);
-      latest_ = s;
-      fresh_ = true;
+      {
+        const std::lock_guard lock(mutex_);
+        latest_ = s;
+        fresh_ = true;
+      }
+      fresh_state_.notify_one();
     });
     session_.on_each_scene([this](const SceneDescription& d) { set_scene(d); });
     session_.on_each_accepted([this](const AcceptedCommand& a) { accepted(a); });
@@ -107,6 +110,7 @@ class Viewer {
       stopping_ = true;
     }
     wake_.notify_all();
+    fresh_state_.notify_one();
     if (pump_.joinable()) pump_.join();
     if (worker_.joinable()) worker_.join();
     session_.on_each_state({});
@@ -197,6 +201,7 @@ class Viewer {
   void command(std::uint64_t page, const view::PageCommand& c,
                std::function<void(view::Bytes)> reply) {
     if (c.op == view::Op::kPush) return push(page, c);
+    if (c.op == view::Op::kWatch) return watch(page, c.body);
     {
       const std::lock_guard lock(mutex_);
       if (jobs_.size() < kMaxPendingControls) {
@@ -207,6 +212,41 @@ class Viewer {
     }
     reply(std::make_shared<const std::string>(view::reply_json(
         c.id, view::op_name(c.op), false, "refused", 0, "busy: too many requests waiting")));
+  }
+
+  // A page's watched body (body -1: none), until kWatchLifetime from now: the page re-sends it
+  // while it holds, and a page that goes away stops doing so.
+  void watch(std::uint64_t page, std::int32_t body) {
+    const std::lock_guard lock(mutex_);
+    if (body < 0) {
+      watches_.erase(page);
+      return;
+    }
+    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(view::kWatchLifetime));
+    if (!watches_.contains(page) && watches_.size() >= view::kMaxWatched) {
+      auto soonest = watches_.begin();  // full: the watch that lapses first makes room
+      for (auto it = watches_.begin(); it != watches_.end(); ++it)
+        if (it->second.until < soonest->second.until) soonest = it;
+      watches_.erase(soonest);
+    }
+    watches_[page] = Watch{body, until};
+  }
+
+  // Pump thread, mutex held: the bodies the pages watch, each once, forgetting lapsed watches.
+  std::vector<std::int32_t> watched_bodies() {
+    const auto now = Clock::now();
+    std::vector<std::int32_t> out;
+    for (auto it = watches_.begin(); it != watches_.end();) {
+      if (it->second.until < now) {
+        it = watches_.erase(it);
+        continue;
+      }
+      if (std::find(out.begin(), out.end(), it->second.body) == out.end())
+        out.push_back(it->second.body);
+      ++it;
+    }
+    return out;
   }
 
   void push(std::uint64_t page, const view::PageCommand& c) {
@@ -259,6 +299,7 @@ class Viewer {
         case view::Op::kPlay:  // playback only: refused by the server in live mode
         case view::Op::kSeek:
         case view::Op::kSpeed:
+        case view::Op::kWatch:  // (command() keeps it)
           break;
       }
       const std::string text =
@@ -276,12 +317,14 @@ class Viewer {
         std::chrono::duration<double>(1.0 / kFrameRate));
     const auto wrench_period = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(1.0 / view::kWrenchRate));
-    auto next = Clock::now();
+    auto earliest = Clock::now();  // the next state frame goes out no sooner (kFrameRate)
     std::unique_lock lock(mutex_);
     while (!stopping_) {
-      next += period;
-      if (wake_.wait_until(lock, next, [this] { return stopping_; })) return;
-      if (Clock::now() > next + 10 * period) next = Clock::now();  // after a stall: no burst
+      // A state goes out when it arrives, at most kFrameRate times a second: sending the newest
+      // at fixed 60 Hz slots instead made it wait half a period on average for the next one.
+      if (fresh_state_.wait_until(lock, earliest, [this] { return stopping_; })) return;
+      fresh_state_.wait_for(lock, period, [this] { return stopping_ || fresh_; });
+      if (stopping_) return;
       // A SceneInfo that came before the handler was set (DDS: transient-local, at discovery),
       // or a restarted rigidd's.
       if (const auto g = session_.scene_generation(); g != seen_generation_) {
@@ -292,6 +335,7 @@ class Viewer {
       }
       if (!fresh_ || !latest_) continue;
       fresh_ = false;
+      earliest = Clock::now() + period;
       const StateFrame state = *latest_;
       const auto generation = static_cast<std::uint32_t>(generation_);
       if (generation_ != drift_generation_ && scene_) {
@@ -311,10 +355,15 @@ class Viewer {
         wrenches_text = std::make_shared<const std::string>(view::wrenches_json(*wrenches));
         wrenches_text_ = wrenches_text;
       }
+      const std::vector<std::int32_t> watched = watched_bodies();
       lock.unlock();
       drift_.update(state);
+      // Large scenes: poses, the worst drifts and the watched bodies' whole states (protocol.hpp).
       server_->broadcast_state(std::make_shared<const std::string>(
-          view::encode_state(state, generation, drift_.energy(), drift_.momentum())));
+          view::state_in_float32(state.ids.size())
+              ? view::encode_pose_state(state, generation, drift_.energy(), drift_.momentum(),
+                                        watched)
+              : view::encode_state(state, generation, drift_.energy(), drift_.momentum())));
       if (wrenches_text) server_->broadcast_text(std::move(wrenches_text));
       lock.lock();
     }
@@ -324,6 +373,7 @@ class Viewer {
   std::unique_ptr<view::ViewServer> server_;
   std::mutex mutex_;
   std::condition_variable wake_;
+  std::condition_variable fresh_state_;  // the pump's: a state arrived, or stopping
   std::optional<StateFrame> latest_;
   bool fresh_ = false;
   std::optional<SceneDescription> scene_;
@@ -346,8 +396,13 @@ class Viewer {
     double ttl;
   };
   std::vector<Drive> drives_;
-  view::DriftTracker drift_;            // pump thread only
-  std::uint64_t drift_generation_ = 0;  // pump thread only
+  struct Watch {
+    std::int32_t body;
+    Clock::time_point until;
+  };
+  std::map<std::uint64_t, Watch> watches_;  // by page
+  view::DriftTracker drift_;                // pump thread only
+  std::uint64_t drift_generation_ = 0;      // pump thread only
   std::thread pump_, worker_;
 };
 

@@ -217,6 +217,77 @@ std::string encode_state(const StateFrame& state, std::uint32_t scene_generation
   return out;
 }
 
+std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_generation,
+                              const std::vector<float>& energy_drift,
+                              const std::vector<float>& momentum_drift,
+                              const std::vector<std::int32_t>& watched) {
+  const std::size_t n = state.ids.size();
+  const std::size_t k = std::min(watched.size(), kMaxWatched);
+  std::string out;
+  out.reserve(pose_state_bytes(n, k));
+  put_u32(out, kStateMagic);
+  put_u32(out, static_cast<std::uint32_t>(n));
+  put_u32(out, scene_generation);
+  put_u32(out, kStatePoses);
+  put_i64(out, state.tick);
+  const double t = state.sim_time;
+  put_f64s(out, &t, 1);
+  put_i64(out, state.stamp_ns);
+  std::vector<float> narrow;
+  for (const auto& [v, per_body] : {std::pair{&state.position, std::size_t{3}},
+                                    std::pair{&state.orientation, std::size_t{4}}}) {
+    const std::size_t at = out.size(), have = std::min(v->size(), per_body * n);
+    narrow.assign(v->begin(), v->begin() + static_cast<std::ptrdiff_t>(have));
+    put_f32s(out, narrow.data(), have);
+    out.resize(at + per_body * n * sizeof(float), '\0');
+  }
+  out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
+  // The worst drifts, as the page's DriftTable.worst() finds them in a whole frame: the largest
+  // value above 0 (NaN never wins), its slot, -1 when none.
+  for (const std::vector<float>* drift : {&energy_drift, &momentum_drift}) {
+    float worst = 0;
+    std::int32_t at = -1;
+    for (std::size_t i = 0; i < std::min(drift->size(), n); ++i) {
+      if ((*drift)[i] > worst) {
+        worst = (*drift)[i];
+        at = static_cast<std::int32_t>(i);
+      }
+    }
+    put_f32s(out, &worst, 1);
+    out.append(reinterpret_cast<const char*>(&at), sizeof at);
+  }
+  const std::size_t count_at = out.size();
+  put_u32(out, 0);  // k, below
+  put_u32(out, 0);
+  std::uint32_t records = 0;
+  const auto real = [](const std::vector<double>& v, std::size_t i) {
+    return i < v.size() ? v[i] : 0.0;
+  };
+  for (std::size_t w = 0; w < k; ++w) {
+    const auto it = std::find(state.ids.begin(), state.ids.end(), watched[w]);
+    if (it == state.ids.end()) continue;
+    const auto slot = static_cast<std::size_t>(it - state.ids.begin());
+    const auto slot32 = static_cast<std::int32_t>(slot);
+    out.append(reinterpret_cast<const char*>(&slot32), sizeof slot32);
+    const float drifts[2] = {slot < energy_drift.size() ? energy_drift[slot] : 0.0f,
+                             slot < momentum_drift.size() ? momentum_drift[slot] : 0.0f};
+    put_f32s(out, drifts, 2);
+    put_u32(out, 0);
+    double values[13];
+    for (std::size_t c = 0; c < 3; ++c) {
+      values[c] = real(state.position, 3 * slot + c);
+      values[7 + c] = real(state.linear_velocity, 3 * slot + c);
+      values[10 + c] = real(state.angular_velocity, 3 * slot + c);
+    }
+    for (std::size_t c = 0; c < 4; ++c)
+      values[3 + c] = real(state.orientation, 4 * slot + c);
+    put_f64s(out, values, 13);
+    ++records;
+  }
+  std::memcpy(out.data() + count_at, &records, sizeof records);
+  return out;
+}
+
 MomentBox box_of_moments(double mass, const double* in) {
   MomentBox box;
   Eigen::Matrix3d inertia;
@@ -435,6 +506,8 @@ std::string_view op_name(Op op) {
       return "seek";
     case Op::kSpeed:
       return "speed";
+    case Op::kWatch:
+      return "watch";
   }
   return "?";
 }
@@ -512,6 +585,11 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
     if (!have_body || !have_force || !have_point)
       return std::string("push: needs body, force and point");
     if (have_speed || c.tick >= 0 || c.time) return std::string("push: unexpected field");
+    return c;
+  } else if (op == "watch") {
+    c.op = Op::kWatch;  // no answer: no id needed; without a body, none
+    if (have_force || have_point || have_steps || have_speed || c.tick >= 0 || c.time)
+      return std::string("watch: unexpected field");
     return c;
     // Playback (rigid-view FILE).
   } else if (op == "play") {

@@ -9,13 +9,25 @@
 //   (v_WBo in W), real angular_velocity[3n] (w_WB in W, as rigidd publishes it: msgs/rigid.idl),
 //   f32 energy_drift[n], f32 momentum_drift[n] (relative, since each body's reference: drift.hpp),
 //   i32 id[n]. real is f64, the published doubles, for scenes of up to kExactStateMaxBodies
-//   bodies, and f32 (flag kStateFloat32) for larger ones: what the page's GPU draws anyway, and
-//   the bytes are what a large scene's state costs on the way (bench/view/README.md). Total
+//   bodies, and f32 (flag kStateFloat32) for larger recordings (rigid-view FILE, whose frames
+//   are made once at load for every page): what the page's GPU draws anyway, and the bytes are
+//   what a large scene's state costs on the way (bench/view/README.md). Total
 //   kStateHeaderBytes + state_bytes_per_body(n) n.
+// Pose frame (live scenes of more than kExactStateMaxBodies bodies: flag kStatePoses): the same
+//   header, then f32 position[3n], f32 orientation[4n], i32 id[n] (32 B a body, half the state
+//   frame's: a 10^4-body page draws what it receives, bench/view/README.md), the worst drifts
+//   (f32 energy, i32 its slot, f32 momentum, i32 its slot; slot -1 when every drift is 0), u32 k,
+//   u32 0, and k watched bodies' records of kWatchedRecordBytes: i32 slot, f32 energy drift, f32
+//   momentum drift, u32 0, f64 position[3], orientation[4], linear_velocity[3],
+//   angular_velocity[3] (the published doubles). The watched bodies are those the pages asked
+//   for ({"op":"watch"}): the body panel shows them exactly, velocities included.
 // Page commands (text, at most kMaxCommandBytes, one flat JSON object):
 //   {"op":"pause"|"resume"|"reset","id":N}   {"op":"step","id":N,"steps":K}
 //   {"op":"push","body":ID,"force":[x,y,z],"point":[x,y,z]}   (force in W, point from the CoM in B)
 //   {"op":"ack"}   (exactly these bytes: the page has drawn a state frame; see kAckCommand)
+//   {"op":"watch","body":ID} or {"op":"watch"} (none): the body whose exact state this page shows
+//   (pose frames' watched records); re-sent every second while it holds (kWatchLifetime), no
+//   answer, allowed with --read-only and in playback (whose frames are whole: ignored there).
 // Playback (rigid-view FILE, hello's "mode":"playback"): pause as above, and
 //   {"op":"play","id":N}   {"op":"seek","id":N,"tick":T} or {...,"time":S}
 //   {"op":"speed","id":N,"speed":X}
@@ -37,7 +49,11 @@ namespace rigid::view {
 inline constexpr std::uint32_t kStateMagic = 0x33565752;  // "RWV3" (with drifts, f32 or f64)
 inline constexpr std::size_t kStateHeaderBytes = 40;
 inline constexpr std::uint32_t kStateFloat32 = 1;  // flags: the per-body reals are f32
+inline constexpr std::uint32_t kStatePoses = 2;    // flags: a pose frame (see the top)
 inline constexpr std::size_t kExactStateMaxBodies = 256;
+inline constexpr std::size_t kWatchedRecordBytes = 120;
+inline constexpr std::size_t kMaxWatched = 64;  // bodies in one pose frame's watched records
+inline constexpr double kWatchLifetime = 3;     // s: a page's watch lapses unless re-sent
 // Whether a state of this many bodies goes to the page in float32, and its bytes per body.
 bool state_in_float32(std::size_t bodies);
 inline std::size_t state_bytes_per_body(std::size_t bodies) {
@@ -67,6 +83,15 @@ inline constexpr double kMaxSeekTime = 1e12;
 std::string encode_state(const StateFrame& state, std::uint32_t scene_generation,
                          const std::vector<float>& energy_drift,
                          const std::vector<float>& momentum_drift);
+// The pose frame of a live state (see the top), with the records of the bodies of `watched` (ids,
+// at most kMaxWatched, each once) that the state holds, in the order given.
+std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_generation,
+                              const std::vector<float>& energy_drift,
+                              const std::vector<float>& momentum_drift,
+                              const std::vector<std::int32_t>& watched);
+inline std::size_t pose_state_bytes(std::size_t bodies, std::size_t watched) {
+  return kStateHeaderBytes + 32 * bodies + 24 + kWatchedRecordBytes * watched;
+}
 
 // {"type":"scene", ...}: each body's id, name and what to draw: "box" (size), "sphere",
 // "cylinder", "capsule", "ellipsoid" (dims as in SceneDescription), or for a body without a shape
@@ -107,14 +132,14 @@ struct PlaybackStatus {
 };
 std::string playback_json(const PlaybackStatus& status);
 
-enum class Op { kPause, kResume, kStep, kReset, kPush, kPlay, kSeek, kSpeed };
+enum class Op { kPause, kResume, kStep, kReset, kPush, kPlay, kSeek, kSpeed, kWatch };
 std::string_view op_name(Op op);
 
 struct PageCommand {
   Op op = Op::kPause;
   std::int64_t id = 0;
   std::int64_t steps = 0;  // kStep
-  std::int32_t body = -1;  // kPush
+  std::int32_t body = -1;  // kPush; kWatch (-1: none)
   rigid::Vec3 force{};     // kPush
   rigid::Vec3 point{};     // kPush
   // Playback. kSeek: exactly one of tick (>= 0) and time (finite); the other stays at its default.

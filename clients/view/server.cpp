@@ -86,6 +86,11 @@ class Page : public std::enable_shared_from_this<Page> {
     beast::get_lowest_layer(ws_).socket().set_option(tcp::no_delay(true), ignored);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.read_message_max(kMaxCommandBytes);
+    // One WebSocket frame per message, written at once: Beast's default splits a message into
+    // frames of its 4 KB write buffer, each its own write (and TCP segment, with TCP_NODELAY) and
+    // each a separate chunk for the browser to forward to the page: 80 of them for a 10^4-body
+    // pose frame (bench/view/README.md).
+    ws_.auto_fragment(false);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return self->fail();
       self->open_ = true;
@@ -156,7 +161,7 @@ class Page : public std::enable_shared_from_this<Page> {
           ++impl_.counts.commands_refused;
           send_text(std::make_shared<const std::string>(
               reply_json(c.id, op_name(c.op), false, "refused", 0, wrong_mode)));
-        } else if (impl_.options.read_only) {
+        } else if (impl_.options.read_only && c.op != Op::kWatch) {  // watch: what it sees
           ++impl_.counts.commands_refused;
           send_text(std::make_shared<const std::string>(
               reply_json(c.id, op_name(c.op), false, "refused", 0, "rigid-view runs --read-only")));

@@ -63,8 +63,8 @@ class ViewServer {
   static constexpr std::size_t kMaxUnackedStates = 2;
   static constexpr std::size_t kMaxUnackedBytes = std::size_t{256} << 10;
 
-  // Called on the server thread for each valid command of a page (never with --read-only, except
-  // that push is refused there too). `reply` sends a text to that page only (any thread).
+  // Called on the server thread for each valid command of a page (with --read-only, only watch:
+  // the others are refused). `reply` sends a text to that page only (any thread).
   using CommandHandler = std::function<void(std::uint64_t page, const PageCommand& command,
                                             std::function<void(Bytes)> reply)>;
   // What a newly connected page gets first (scene, last stats), on the server thread.

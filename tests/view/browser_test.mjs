@@ -78,6 +78,22 @@ async function manyBodies() {
                        ...published.orientation.map((x, i) => Math.abs(x - drawn.orientation[i])));
   console.log(`probe at t=${t}: published ${JSON.stringify(published)}, drawn ${JSON.stringify(drawn)}`);
   if (!(err < 1e-6)) throw new Error(`large scene: drawn pose differs from the published state by ${err}`);
+  // Live large scenes get pose frames (protocol.hpp): velocities only for the bodies the pages
+  // watch. Selecting the probe watches it: its whole published state, to the last bit.
+  const unwatched = await rv('window.rigidView.bodyState("probe")');
+  if (unwatched.linear_velocity !== null) throw new Error(`large scene: velocities of a body not selected: ${JSON.stringify(unwatched)}`);
+  if (!(await rv('window.rigidView.select("probe")'))) throw new Error('large scene: no probe to select');
+  await until('the selected probe\'s whole state', () => rv('window.rigidView.bodyState("probe").angular_velocity !== null'), 5000);
+  const exact = await rv('window.rigidView.bodyState("probe")');
+  const publishedAll = [...published.position, ...published.orientation, ...v.slice(9, 12), ...v.slice(12, 15)];
+  const heldAll = [...exact.position, ...exact.orientation, ...exact.linear_velocity, ...exact.angular_velocity];
+  if (publishedAll.some((x, i) => x !== heldAll[i])) throw new Error(`large scene: the selected probe's state ${JSON.stringify(heldAll)} is not the published ${JSON.stringify(publishedAll)}`);
+  if (!(Math.hypot(...exact.angular_velocity) > 0)) throw new Error('large scene: the probe does not spin');
+  const other = await rv('window.rigidView.bodies.find((b) => b.name !== "probe").name');
+  if ((await rv(`window.rigidView.bodyState(${JSON.stringify(other)})`)).linear_velocity !== null) throw new Error(`large scene: ${other} has velocities though not selected`);
+  const panel = await page.textContent('#selw');
+  if (panel === '–' || !panel) throw new Error(`large scene: the body panel's angular velocity: ${panel}`);
+  await rv('window.rigidView.select(null)');
   // On the screen: the probe's colour (the palette's first, light blue 0x4fc3f7, shaded) where its
   // published centre projects, and not 0.5 m above it (its half diagonal is 0.29 m; behind that
   // spot are only the background and the grid, both grey).

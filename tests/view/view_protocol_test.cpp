@@ -206,6 +206,123 @@ TEST(ViewProtocol, LargeScenesStateFrameCarriesFloat32) {
   }
 }
 
+// A page names the body whose whole state it shows (pose frames, below): with a body or none, no
+// id (it gets no answer), nothing else.
+TEST(ViewProtocol, Watch) {
+  auto r = parse_command(R"({"op":"watch","body":42})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).op, Op::kWatch);
+  EXPECT_EQ(std::get<PageCommand>(r).body, 42);
+  r = parse_command(R"({"op":"watch"})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).body, -1);
+  EXPECT_EQ(refusal(R"({"op":"watch","body":-1})"), "body: expected a body id >= 0");
+  EXPECT_EQ(refusal(R"({"op":"watch","body":"ball"})"), "body: expected a body id >= 0");
+  EXPECT_EQ(refusal(R"({"op":"watch","body":1,"force":[1,0,0]})"), "watch: unexpected field");
+  EXPECT_EQ(refusal(R"({"op":"watch","body":1,"steps":3})"), "watch: unexpected field");
+  // Allowed in both modes (playback's frames are whole: there it changes nothing).
+  for (const bool playback : {false, true})
+    EXPECT_EQ(refusal_in_mode(std::get<PageCommand>(parse_command(R"({"op":"watch","body":1})")),
+                              playback),
+              "");
+}
+
+// Live scenes of more than kExactStateMaxBodies bodies: float32 poses and ids (32 B a body), the
+// worst drifts with their slots, then the watched bodies' published doubles to the last bit, in
+// the order asked, skipping ids the state does not hold.
+TEST(ViewProtocol, PoseFrameLayout) {
+  const std::size_t n = 300;
+  StateFrame s;
+  s.resize(n);
+  s.tick = 77;
+  s.sim_time = 0.077;
+  s.stamp_ns = 123456789;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = static_cast<double>(i);
+    s.ids[i] = static_cast<std::int32_t>(1000 + i);
+    for (std::size_t k = 0; k < 3; ++k) {
+      s.position[3 * i + k] = x / 3 + static_cast<double>(k);
+      s.linear_velocity[3 * i + k] = -x / 7 - static_cast<double>(k);
+      s.angular_velocity[3 * i + k] = x / 11 + 1e-13;
+    }
+    s.orientation[4 * i] = std::cos(x / 100);
+    s.orientation[4 * i + 2] = std::sin(x / 100);
+  }
+  std::vector<float> e(n, 0.0f), m(n, 0.0f);
+  e[17] = 3e-12f;
+  e[250] = 2.5e-9f;  // the worst energy drift
+  m[3] = 1e-3f;      // the worst momentum drift
+  m[4] = std::nanf("");
+  const std::vector<std::int32_t> watched = {1250, 5, 1003};  // 5: not in the state
+  const std::string f = encode_pose_state(s, 9, e, m, watched);
+  ASSERT_EQ(f.size(), pose_state_bytes(n, 2));
+  ASSERT_EQ(f.size(), kStateHeaderBytes + 32 * n + 24 + 2 * kWatchedRecordBytes);
+  std::uint32_t head[4];
+  std::memcpy(head, f.data(), 16);
+  EXPECT_EQ(head[0], kStateMagic);
+  EXPECT_EQ(head[1], n);
+  EXPECT_EQ(head[2], 9u);
+  EXPECT_EQ(head[3], kStatePoses);
+  std::int64_t tick;
+  std::memcpy(&tick, f.data() + 16, 8);
+  EXPECT_EQ(tick, 77);
+  const auto f32 = [&](std::size_t at) {
+    float x;
+    std::memcpy(&x, f.data() + at, 4);
+    return x;
+  };
+  const auto i32 = [&](std::size_t at) {
+    std::int32_t x;
+    std::memcpy(&x, f.data() + at, 4);
+    return x;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < 3; ++k)
+      ASSERT_EQ(f32(kStateHeaderBytes + 4 * (3 * i + k)),
+                static_cast<float>(s.position[3 * i + k]));
+    for (std::size_t k = 0; k < 4; ++k) {
+      ASSERT_EQ(f32(kStateHeaderBytes + 12 * n + 4 * (4 * i + k)),
+                static_cast<float>(s.orientation[4 * i + k]));
+    }
+    ASSERT_EQ(i32(kStateHeaderBytes + 28 * n + 4 * i), s.ids[i]);
+  }
+  const std::size_t worst = kStateHeaderBytes + 32 * n;
+  EXPECT_EQ(f32(worst), 2.5e-9f);
+  EXPECT_EQ(i32(worst + 4), 250);
+  EXPECT_EQ(f32(worst + 8), 1e-3f);  // NaN is never the worst
+  EXPECT_EQ(i32(worst + 12), 3);
+  EXPECT_EQ(i32(worst + 16), 2);  // records
+  const std::size_t records = worst + 24;
+  ASSERT_EQ(records % 8, 0u);  // the page reads the doubles as a Float64Array
+  for (const auto& [r, slot] : {std::pair{0, std::size_t{250}}, std::pair{1, std::size_t{3}}}) {
+    const std::size_t at = records + static_cast<std::size_t>(r) * kWatchedRecordBytes;
+    EXPECT_EQ(i32(at), static_cast<std::int32_t>(slot));
+    EXPECT_EQ(f32(at + 4), e[slot]);
+    if (slot == 3) {
+      EXPECT_EQ(f32(at + 8), 1e-3f);
+    }
+    double x[13];
+    std::memcpy(x, f.data() + at + 16, sizeof x);
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(x[k], s.position[3 * slot + k]);
+      EXPECT_EQ(x[7 + k], s.linear_velocity[3 * slot + k]);
+      EXPECT_EQ(x[10 + k], s.angular_velocity[3 * slot + k]);  // to the last bit
+    }
+    for (std::size_t k = 0; k < 4; ++k)
+      EXPECT_EQ(x[3 + k], s.orientation[4 * slot + k]);
+  }
+  // Every drift 0: no worst body; no watch: no records; beyond kMaxWatched: the first ones.
+  const std::string g = encode_pose_state(s, 9, {}, {}, {});
+  ASSERT_EQ(g.size(), pose_state_bytes(n, 0));
+  std::int32_t none;
+  std::memcpy(&none, g.data() + worst + 4, 4);
+  EXPECT_EQ(none, -1);
+  std::vector<std::int32_t> many;
+  for (std::int32_t id = 1000; id < 1100; ++id)
+    many.push_back(id);
+  EXPECT_EQ(encode_pose_state(s, 9, e, m, many).size(), pose_state_bytes(n, kMaxWatched));
+}
+
 TEST(ViewProtocol, StatsForTheHud) {
   StatsReport s;
   s.tick = 7;

@@ -14,6 +14,9 @@ import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
 const kMagic = 0x33565752;  // "RWV3": reals f64, or f32 for large scenes; drifts (protocol.hpp)
 const kHeader = 40;  // bytes
 const kFloat32 = 1;  // the header's flag: the per-body reals are f32
+const kPoses = 2;  // the header's flag: a pose frame (live large scenes; watched bodies exact)
+const kWatchedRecord = 120;  // bytes of a pose frame's watched record
+const kWatchEvery = 1000;  // ms: the watch is re-sent while it holds (rigid-view lets it lapse)
 const $ = (id) => document.getElementById(id);
 
 // Scenes of more than kManyBodies bodies are drawn for speed: without multisampling, with Lambert
@@ -99,15 +102,24 @@ const debug = {
     }
     return null;
   },
-  // A body's last published state as the page holds it (velocities in W).
+  // A body's last published state as the page holds it (velocities in W; null in a large live
+  // scene unless the body is selected: pose frames carry the watched bodies' only).
   bodyState(name) {
     for (const b of bodies.values()) {
       if (b.name !== name || !b.placed) continue;
       return { id: b.id, tick: debug.lastState ? debug.lastState.tick : -1,
                position: b.p.toArray(), orientation: [b.q.w, b.q.x, b.q.y, b.q.z],
-               linear_velocity: b.v.toArray(), angular_velocity: b.w.toArray() };
+               linear_velocity: b.moving ? b.v.toArray() : null,
+               angular_velocity: b.moving ? b.w.toArray() : null };
     }
     return null;
+  },
+  // Selects a body by name (as a click on it or its row does), or none; whether it was found.
+  select(name) {
+    const b = name === null ? null : bodyList.find((x) => x.name === name);
+    if (b === undefined) return false;
+    select(b);
+    return true;
   },
   // A body's relative drift of energy and angular momentum since its reference state, as
   // rigid-view sends it (clients/view/drift.hpp).
@@ -550,7 +562,7 @@ function setScene(msg) {
       bodies.set(d.id, { id: d.id, name: d.name, shape: d.shape, index: i, group: g, instance,
                          mass: d.mass, inertia: d.inertia || null, radius, shape4: shape,
                          p: new THREE.Vector3(), q: new THREE.Quaternion(),
-                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false });
+                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false, moving: false });
     });
     mesh.instanceColor.needsUpdate = true;
     bodyGroup.add(mesh);
@@ -614,7 +626,7 @@ function setImpostorScene(msg, groups) {
                          mass: d.mass, inertia: d.inertia || null,
                          radius: geometry.boundingSphere.radius * shape.getMaxScaleOnAxis(),
                          shape4: shape, unit, p: new THREE.Vector3(), q: new THREE.Quaternion(),
-                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false });
+                         v: new THREE.Vector3(), w: new THREE.Vector3(), placed: false, moving: false });
       return { slot: i, color: new THREE.Color().setHex(palette[i % palette.length]),
                ...impostorShape(kind, d, shape) };
     });
@@ -646,6 +658,7 @@ function applyState(buffer) {
   const v = new DataView(buffer);
   if (v.getUint32(0, true) !== kMagic) throw new Error('bad state frame');
   const n = v.getUint32(4, true);
+  if ((v.getUint32(12, true) & kPoses) !== 0) return applyPoses(buffer, v, n);
   const f32 = (v.getUint32(12, true) & kFloat32) !== 0;
   const real = f32 ? 4 : 8, Real = f32 ? Float32Array : Float64Array;
   if (buffer.byteLength !== kHeader + (13 * real + 12) * n) throw new Error('state frame of the wrong length');
@@ -671,17 +684,70 @@ function applyState(buffer) {
     b.v.set(vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]);
     b.w.set(omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]);
     b.placed = true;
+    b.moving = true;
     // Large scenes: the pose into the vertex shader's texture; small: the instance's matrix, X_WB
     // (pose) times the shape's scale and frame in B.
     if (impostors) impostors.setPose(b.index, b.p, b.q);
     else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
   }
+  drift.update(n, slots, energyDrift, momentumDrift);
+  stateApplied(tick, simTime, stampNs, n, generation);
+}
+
+// A pose frame (protocol.hpp): float32 poses of every body, the worst drifts, and the whole
+// published state of the bodies the pages watch (this page's selected body among them).
+function applyPoses(buffer, v, n) {
+  const bytes = kHeader + 32 * n + 24;
+  if (buffer.byteLength < bytes) throw new Error('pose frame of the wrong length');
+  const k = v.getUint32(bytes - 8, true);
+  if (buffer.byteLength !== bytes + kWatchedRecord * k) throw new Error('pose frame of the wrong length');
+  const generation = v.getUint32(8, true);
+  const tick = Number(v.getBigInt64(16, true));
+  const simTime = v.getFloat64(24, true);
+  const stampNs = v.getBigInt64(32, true);
+  const pos = new Float32Array(buffer, kHeader, 3 * n);
+  const ori = new Float32Array(buffer, kHeader + 12 * n, 4 * n);
+  const ids = new Int32Array(buffer, kHeader + 28 * n, n);
+  const { m, one } = scratch;
+  if (slots.length !== n) slots = new Int32Array(n);
+  for (let i = 0; i < n; ++i) {
+    const b = bodies.get(ids[i]);
+    slots[i] = b ? b.index : -1;
+    if (!b) continue;
+    b.p.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+    b.q.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
+    b.placed = true;
+    b.moving = false;  // velocities: the watched bodies' only, below
+    if (impostors) impostors.setPose(b.index, b.p, b.q);
+    else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
+  }
+  const at = kHeader + 32 * n;
+  const slotOf = (i) => (i >= 0 && i < n ? slots[i] : -1);
+  drift.report({ energy: v.getFloat32(at, true), energyAt: slotOf(v.getInt32(at + 4, true)),
+                 momentum: v.getFloat32(at + 8, true), momentumAt: slotOf(v.getInt32(at + 12, true)) });
+  for (let r = 0; r < k; ++r) {
+    const o = bytes + kWatchedRecord * r;
+    const slot = v.getInt32(o, true);
+    const b = slot >= 0 && slot < n ? bodies.get(ids[slot]) : null;
+    if (!b) continue;
+    const x = new Float64Array(buffer, o + 16, 13);
+    b.p.set(x[0], x[1], x[2]);
+    b.q.set(x[4], x[5], x[6], x[3]);
+    b.v.set(x[7], x[8], x[9]);
+    b.w.set(x[10], x[11], x[12]);
+    b.moving = true;
+    drift.set(b.index, v.getFloat32(o + 4, true), v.getFloat32(o + 8, true));
+  }
+  stateApplied(tick, simTime, stampNs, n, generation);
+}
+
+// What follows a state, whichever its frame.
+function stateApplied(tick, simTime, stampNs, n, generation) {
   if (impostors) impostors.commit();
   for (const g of instanced) {
     g.mesh.instanceMatrix.needsUpdate = true;
     g.mesh.boundingSphere = null;  // stale: recomputed by the next ray cast
   }
-  drift.update(n, slots, energyDrift, momentumDrift);
   if (simTime < lastSimTime) clearTrails();  // reset: the trails would jump
   lastSimTime = simTime;
   addTrailPoints();
@@ -1089,20 +1155,28 @@ function fillBodyList() {
 $('search').oninput = fillBodyList;
 function select(b) {
   selected = b;
+  watchSelected();
   debug.selected = b ? b.name : null;
   $('selected').style.display = b ? '' : 'none';
   if (b) $('selname').textContent = `${b.name} (id ${b.id}, ${b.shape}, ${+b.mass.toPrecision(4)} kg)`;
   fillBodyList();
   driftChart.clear();  // a different quantity from here on
 }
+// Large live scenes: rigid-view sends the selected body's whole state ("watch", protocol.hpp),
+// asked for again every kWatchEvery ms, and on reconnecting.
+function watchSelected() {
+  if (!socket || socket.readyState !== WebSocket.OPEN || debug.mode === 'playback') return;
+  socket.send(JSON.stringify(selected ? { op: 'watch', body: selected.id } : { op: 'watch' }));
+}
+setInterval(() => { if (selected) watchSelected(); }, kWatchEvery);
 const fmt = (a) => a.map((x) => (Math.abs(x) < 1e-12 ? '0' : x.toPrecision(4))).join(', ');
 function showSelected() {
   const b = selected;
   if (!b || !b.placed) return;
   $('selp').textContent = fmt(b.p.toArray());
   $('selq').textContent = fmt([b.q.w, b.q.x, b.q.y, b.q.z]);
-  $('selv').textContent = fmt(b.v.toArray());
-  $('selw').textContent = fmt(b.w.toArray());
+  $('selv').textContent = b.moving ? fmt(b.v.toArray()) : '–';
+  $('selw').textContent = b.moving ? fmt(b.w.toArray()) : '–';
 }
 // "Follow": the camera keeps its offset from the selected body.
 function follow() {

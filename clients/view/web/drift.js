@@ -7,11 +7,13 @@ export class DriftTable {
   setBodies(n) {
     this.energy = new Float64Array(n);  // per body, in the scene's order
     this.momentum = new Float64Array(n);
+    this.reported = null;
   }
 
   // index[i]: the body's place in the scene's order for state slot i (or -1 to skip); energy
   // and momentum: the frame's drifts, by slot.
   update(n, index, energy, momentum) {
+    this.reported = null;  // a whole frame: worst() finds the worst itself
     for (let i = 0; i < n; ++i) {
       const k = index[i];
       if (k < 0 || k >= this.energy.length) continue;
@@ -20,12 +22,22 @@ export class DriftTable {
     }
   }
 
+  // A pose frame (protocol.hpp): the worst drifts as rigid-view found them ({ energy, energyAt,
+  // momentum, momentumAt }, indices in the scene's order), and the watched bodies' own (set).
+  report(worst) { this.reported = worst; }
+  set(k, energy, momentum) {
+    if (k < 0 || k >= this.energy.length) return;
+    this.energy[k] = energy;
+    this.momentum[k] = momentum;
+  }
+
   // The largest drift over all bodies (or body k's when k >= 0), and which bodies have it
   // (energyAt, momentumAt: indices in the scene's order, -1 when every drift is 0). A body under
   // a load of the scene file (a thruster, drag) is not free: its change is work, not error, and
   // the page names the worst body so that such a body is not taken for the integrator's error.
   worst(k = -1) {
     if (k >= 0) return { energy: this.energy[k], momentum: this.momentum[k], energyAt: k, momentumAt: k };
+    if (this.reported) return { ...this.reported };
     let energy = 0, momentum = 0, energyAt = -1, momentumAt = -1;
     for (let i = 0; i < this.energy.length; ++i) {
       if (this.energy[i] > energy) { energy = this.energy[i]; energyAt = i; }
