@@ -94,6 +94,54 @@ async function manyBodies() {
   const panel = await page.textContent('#selw');
   if (panel === '–' || !panel) throw new Error(`large scene: the body panel's angular velocity: ${panel}`);
   await rv('window.rigidView.select(null)');
+  await until('the probe\'s velocities gone once unselected', () => rv('window.rigidView.bodyState("probe").linear_velocity === null'), 5000);
+  // A --read-only rigid-view on the same bus, from a plain WebSocket: pause refused with the
+  // reason, watch allowed (it only changes what this connection sees), and the pose frame read
+  // here independently of the page: 32 B a body, then the watched probe's record with the
+  // published doubles.
+  const readOnly = start(rigidView, [...manyBus, '--listen', '127.0.0.1:0', '--read-only']);
+  const roUrl = await until('the read-only rigid-view to print its URL',
+                            () => (readOnly.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0]);
+  const roPage = await harness.browser.newPage();
+  harness.watch(roPage);
+  await roPage.goto(roUrl);
+  const probeId = await rv('window.rigidView.bodyState("probe").id');
+  const ro = await roPage.evaluate((id) => new Promise((resolve) => {
+    const ws = new WebSocket(`ws://${location.host}/ws`);
+    ws.binaryType = 'arraybuffer';
+    const out = { pause: null, errors: [], record: null };
+    ws.onopen = () => {
+      ws.send('{"op":"pause","id":5}');
+      ws.send(JSON.stringify({ op: 'watch', body: id }));
+    };
+    ws.onmessage = (e) => {
+      if (typeof e.data === 'string') {
+        const m = JSON.parse(e.data);
+        if (m.type === 'reply' && m.op === 'pause') out.pause = m;
+        if (m.type === 'error') out.errors.push(m.message);
+        return;
+      }
+      ws.send('{"op":"ack"}');
+      const v = new DataView(e.data), n = v.getUint32(4, true), flags = v.getUint32(12, true);
+      const end = 40 + 32 * n + 24, k = v.getUint32(end - 8, true);
+      if (e.data.byteLength !== end + 120 * k) { out.record = { badLength: e.data.byteLength, n, k }; return; }
+      for (let r = 0; r < k; ++r) {
+        const slot = v.getInt32(end + 120 * r, true);
+        if (v.getInt32(40 + 28 * n + 4 * slot, true) !== id) continue;
+        const x = Array.from({ length: 13 }, (_, c) => v.getFloat64(end + 120 * r + 16 + 8 * c, true));
+        out.record = { flags, n, sim_time: v.getFloat64(24, true), x };
+      }
+      if (out.record && out.pause) { ws.close(); resolve(out); }
+    };
+    setTimeout(() => { ws.close(); resolve(out); }, 8000);
+  }), probeId);
+  if (!ro.pause || ro.pause.ok || ro.pause.message !== 'rigid-view runs --read-only') throw new Error(`read-only rigid-view answered pause with ${JSON.stringify(ro.pause)}`);
+  if (ro.errors.length) throw new Error(`read-only rigid-view refused: ${ro.errors}`);
+  if (!ro.record || ro.record.badLength || ro.record.flags !== 2 || ro.record.n !== 300) throw new Error(`no pose frame with the watched probe: ${JSON.stringify(ro.record)}`);
+  // (Paused since the echo: the same state.)
+  if (ro.record.x.some((x, i) => x !== publishedAll[i])) throw new Error(`the watched probe's record ${JSON.stringify(ro.record.x)} is not the published ${JSON.stringify(publishedAll)}`);
+  await roPage.close();
+  readOnly.kill('SIGTERM');
   // On the screen: the probe's colour (the palette's first, light blue 0x4fc3f7, shaded) where its
   // published centre projects, and not 0.5 m above it (its half diagonal is 0.29 m; behind that
   // spot are only the background and the grid, both grey).
