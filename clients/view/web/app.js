@@ -1163,7 +1163,8 @@ function select(b) {
   driftChart.clear();  // a different quantity from here on
 }
 // Large live scenes: rigid-view sends the selected body's whole state ("watch", protocol.hpp),
-// asked for again every kWatchEvery ms, and on reconnecting.
+// asked for again every kWatchEvery ms (a reconnected page gets the scene again, which clears the
+// selection).
 function watchSelected() {
   if (!socket || socket.readyState !== WebSocket.OPEN || debug.mode === 'playback') return;
   socket.send(JSON.stringify(selected ? { op: 'watch', body: selected.id } : { op: 'watch' }));
