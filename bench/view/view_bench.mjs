@@ -9,6 +9,9 @@
 // for every body to be drawn, then counts rendered frames and state frames for --seconds.
 // --web-dirs A,B serves each size with each page in turn (rigid-view --web-dir: an old page against
 // a new one, side by side), --repeat N runs every pair N times and prints the medians.
+// --driver cdp (the default) drives Chromium over its DevTools pipe with no Network domain
+// (cdp_browser.mjs says why); --driver playwright as the browser test does (the figures before
+// 2026-12-04 07:00 UTC were taken so).
 //
 // --rigidd-cost: what rigid-view costs rigidd instead (issue 11: "no cost to rigidd"). One rigidd,
 // realtime, --rate (default 1000) Hz on a scene of --bodies (default 1000) bodies publishing every
@@ -20,7 +23,7 @@
 // overruns it added, and each condition the medians over its windows.
 //
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
-//                           [--web-dirs DIR,...] [--repeat N] [--csv FILE]
+//                           [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]
 //        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
 //                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
 import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
@@ -33,9 +36,10 @@ import { fileURLToPath } from 'node:url';
 const require = createRequire(fileURLToPath(new URL('../../tests/view/package.json', import.meta.url)));
 const { chromium } = require('playwright-core');
 const { Processes, sleep, until: untilEvery } = await import('../../tests/view/processes.mjs');
+const { launchCdp } = await import('./cdp_browser.mjs');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
@@ -46,8 +50,9 @@ for (const exe of [rigidd, rigidView]) if (!existsSync(exe)) usage(`no such exec
 const costMode = argv.includes('--rigidd-cost');
 const opt = costMode
   ? { bodies: [1000], seconds: 20, rate: 1000, csv: null, webDirs: [null], repeat: 3, publishEvery: 10,
-      rigidctl: join(dirname(dirname(rigidView)), 'rigidctl') }
-  : { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null, webDirs: [null], repeat: 1, publishEvery: 1 };
+      rigidctl: join(dirname(dirname(rigidView)), 'rigidctl'), driver: 'cdp' }
+  : { bodies: [1000, 10000], seconds: 10, rate: 100, csv: null, webDirs: [null], repeat: 1, publishEvery: 1,
+      driver: 'cdp' };
 for (let i = 2; i < argv.length; i += 2) {
   const key = argv[i], value = argv[i + 1];
   if (key === '--rigidd-cost') {
@@ -77,6 +82,9 @@ for (let i = 2; i < argv.length; i += 2) {
     if (!(Number.isInteger(opt.publishEvery) && opt.publishEvery >= 1 && opt.publishEvery <= 1000)) usage(`--publish-every: expected an integer in [1, 1000], got ${value}`);
   } else if (key === '--rigidctl') {
     opt.rigidctl = value;
+  } else if (key === '--driver') {
+    if (value !== 'cdp' && value !== 'playwright') usage(`--driver: expected cdp or playwright, got ${value}`);
+    opt.driver = value;
   } else {
     usage(`unknown option ${key}`);
   }
@@ -95,6 +103,9 @@ const start = (exe, args) => processes.start(exe, args);
 const stop = (child) => processes.stop(child);
 const until = (what, check, ms) => untilEvery(what, check, ms, 100);
 let browser = null;
+// A 1280x800 page, either driver's: goto, evaluate, on('pageerror'), close.
+const newPage = () => (opt.driver === 'cdp' ? browser.newPage({ width: 1280, height: 800 })
+                                             : browser.newPage({ viewport: { width: 1280, height: 800 } }));
 
 async function cleanup() {
   if (browser) await browser.close().catch(() => {});
@@ -137,7 +148,7 @@ async function run(n, webDir) {
   const view = start(rigidView, [...bus, '--listen', '127.0.0.1:0', ...(webDir ? ['--web-dir', webDir] : [])]);
   const url = await until('rigid-view to print its URL',
                           () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0], 30000);
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const page = await newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(String(e)));
   await page.goto(url);
@@ -207,7 +218,7 @@ async function rigiddCost() {
                                 () => (view.out.match(/http:\/\/127\.0\.0\.1:\d+\//) || [])[0], 30000);
         if (condition === 'rigid-view, two pages') {
           for (let p = 0; p < 2; ++p) {
-            const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+            const page = await newPage();
             await page.goto(url);
             await until(`${n} bodies drawn`, () => page.evaluate(`window.rigidView.bodies.length === ${n} && window.rigidView.frames >= 2`), 120000);
             pages.push(page);
@@ -251,12 +262,13 @@ async function rigiddCost() {
 }
 
 try {
-  browser = await chromium.launch({
-    executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
+  const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+                        '--disable-background-networking', '--disable-component-update', '--disable-sync',
+                        '--use-angle=swiftshader', '--enable-unsafe-swiftshader'];
+  browser = opt.driver === 'cdp'
+    ? await launchCdp('/usr/bin/chromium', chromiumArgs)
+    : await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
+                              args: chromiumArgs });
   if (costMode) {
     await rigiddCost();
     clearTimeout(watchdog);
