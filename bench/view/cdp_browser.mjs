@@ -52,7 +52,9 @@ export async function launchCdp(executable, args) {
 
   return {
     async newPage({ width, height }) {
-      const { targetId } = await send('Target.createTarget', { url: 'about:blank' });
+      // Each page in a window of its own: a second tab in one window would hide the first, and a
+      // hidden page gets no animation frames (--rigidd-cost opens two).
+      const { targetId } = await send('Target.createTarget', { url: 'about:blank', newWindow: true });
       const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
       const errorHandlers = [];
       const onEvent = (m) => {
