@@ -673,23 +673,7 @@ function applyState(buffer) {
   const energyDrift = new Float32Array(buffer, kHeader + 13 * real * n, n);
   const momentumDrift = new Float32Array(buffer, kHeader + (13 * real + 4) * n, n);
   const ids = new Int32Array(buffer, kHeader + (13 * real + 8) * n, n);
-  const { m, one } = scratch;
-  if (slots.length !== n) slots = new Int32Array(n);
-  for (let i = 0; i < n; ++i) {
-    const b = bodies.get(ids[i]);
-    slots[i] = b ? b.index : -1;
-    if (!b) continue;
-    b.p.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-    b.q.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
-    b.v.set(vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]);
-    b.w.set(omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]);
-    b.placed = true;
-    b.moving = true;
-    // Large scenes: the pose into the vertex shader's texture; small: the instance's matrix, X_WB
-    // (pose) times the shape's scale and frame in B.
-    if (impostors) impostors.setPose(b.index, b.p, b.q);
-    else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
-  }
+  placeBodies(n, ids, pos, ori, vel, omega);
   drift.update(n, slots, energyDrift, momentumDrift);
   stateApplied(tick, simTime, stampNs, n, generation);
 }
@@ -708,19 +692,7 @@ function applyPoses(buffer, v, n) {
   const pos = new Float32Array(buffer, kHeader, 3 * n);
   const ori = new Float32Array(buffer, kHeader + 12 * n, 4 * n);
   const ids = new Int32Array(buffer, kHeader + 28 * n, n);
-  const { m, one } = scratch;
-  if (slots.length !== n) slots = new Int32Array(n);
-  for (let i = 0; i < n; ++i) {
-    const b = bodies.get(ids[i]);
-    slots[i] = b ? b.index : -1;
-    if (!b) continue;
-    b.p.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
-    b.q.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
-    b.placed = true;
-    b.moving = false;  // velocities: the watched bodies' only, below
-    if (impostors) impostors.setPose(b.index, b.p, b.q);
-    else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
-  }
+  placeBodies(n, ids, pos, ori, null, null);  // velocities: the watched bodies' only, below
   const at = kHeader + 32 * n;
   const slotOf = (i) => (i >= 0 && i < n ? slots[i] : -1);
   drift.report({ energy: v.getFloat32(at, true), energyAt: slotOf(v.getInt32(at + 4, true)),
@@ -739,6 +711,30 @@ function applyPoses(buffer, v, n) {
     drift.set(b.index, v.getFloat32(o + 4, true), v.getFloat32(o + 8, true));
   }
   stateApplied(tick, simTime, stampNs, n, generation);
+}
+
+// Each body of a state at its pose (and velocities when the frame has them: vel and omega, else
+// null); slots[i] becomes state slot i's index in the scene's order (-1: not in the scene).
+function placeBodies(n, ids, pos, ori, vel, omega) {
+  const { m, one } = scratch;
+  if (slots.length !== n) slots = new Int32Array(n);
+  for (let i = 0; i < n; ++i) {
+    const b = bodies.get(ids[i]);
+    slots[i] = b ? b.index : -1;
+    if (!b) continue;
+    b.p.set(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+    b.q.set(ori[4 * i + 1], ori[4 * i + 2], ori[4 * i + 3], ori[4 * i]);
+    if (vel) {
+      b.v.set(vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]);
+      b.w.set(omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]);
+    }
+    b.placed = true;
+    b.moving = !!vel;
+    // Large scenes: the pose into the vertex shader's texture; small: the instance's matrix, X_WB
+    // (pose) times the shape's scale and frame in B.
+    if (impostors) impostors.setPose(b.index, b.p, b.q);
+    else b.group.mesh.setMatrixAt(b.instance, m.compose(b.p, b.q, one).multiply(b.shape4));
+  }
 }
 
 // What follows a state, whichever its frame.
