@@ -56,10 +56,10 @@ class ViewServer {
   static constexpr std::size_t kMaxBadFrames = 20;  // then the page is disconnected
   // State frames written to a page and not yet acknowledged ({"op":"ack"}, protocol.hpp): more
   // wait in its newest-only slot. Two, one being drawn while the next travels, as long as the two
-  // hold at most kMaxUnackedBytes; else one. A large scene's frame (10^4 bodies: 640 KB) costs the
-  // browser more to carry than to draw, and a page that draws one frame while two arrive pays for
-  // a state it never shows: view_bench at 10^4 bodies, three alternated pairs, 12.8, 12.4, 14.2
-  // frames/s with two in flight (25 states a second drawn: two a frame), 14.0, 19.6, 14.5 with one.
+  // hold at most kMaxUnackedBytes; else one. A page that draws one frame while two large states
+  // arrive pays for a state it never shows: view_bench at 10^4 bodies (640 KB float32 frames then;
+  // pose frames are 320 KB, still one in flight), three alternated pairs, 12.8, 12.4, 14.2 frames/s
+  // with two in flight (25 states a second drawn: two a frame), 14.0, 19.6, 14.5 with one.
   static constexpr std::size_t kMaxUnackedStates = 2;
   static constexpr std::size_t kMaxUnackedBytes = std::size_t{256} << 10;
 
