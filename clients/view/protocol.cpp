@@ -176,6 +176,38 @@ bool state_in_float32(std::size_t bodies) {
   return bodies > kExactStateMaxBodies;
 }
 
+namespace {
+
+// The header both frames share (protocol.hpp), for n bodies.
+void put_state_header(std::string& out, const StateFrame& state, std::size_t n,
+                      std::uint32_t scene_generation, std::uint32_t flags) {
+  put_u32(out, kStateMagic);
+  put_u32(out, static_cast<std::uint32_t>(n));
+  put_u32(out, scene_generation);
+  put_u32(out, flags);
+  put_i64(out, state.tick);
+  const double t = state.sim_time;
+  put_f64s(out, &t, 1);
+  put_i64(out, state.stamp_ns);
+}
+
+// A per-body array of n bodies at its place, as f32 or f64; a short one (a decoder guarantees
+// they are not) is padded with zeros. `narrow`: scratch for the f32 copy.
+void put_real_array(std::string& out, const std::vector<double>& v, std::size_t per_body,
+                    std::size_t n, bool f32, std::vector<float>& narrow) {
+  const std::size_t at = out.size(), have = std::min(v.size(), per_body * n);
+  if (f32) {
+    narrow.assign(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(have));
+    put_f32s(out, narrow.data(), have);
+    out.resize(at + per_body * n * sizeof(float), '\0');
+  } else {
+    put_f64s(out, v.data(), have);
+    out.resize(at + per_body * n * sizeof(double), '\0');
+  }
+}
+
+}  // namespace
+
 std::string encode_state(const StateFrame& state, std::uint32_t scene_generation,
                          const std::vector<float>& energy_drift,
                          const std::vector<float>& momentum_drift) {
@@ -183,26 +215,10 @@ std::string encode_state(const StateFrame& state, std::uint32_t scene_generation
   const bool f32 = state_in_float32(n);
   std::string out;
   out.reserve(kStateHeaderBytes + state_bytes_per_body(n) * n);
-  put_u32(out, kStateMagic);
-  put_u32(out, static_cast<std::uint32_t>(n));
-  put_u32(out, scene_generation);
-  put_u32(out, f32 ? kStateFloat32 : 0);
-  put_i64(out, state.tick);
-  const double t = state.sim_time;
-  put_f64s(out, &t, 1);
-  put_i64(out, state.stamp_ns);
-  // Each array at its place; a short one (a decoder guarantees they are not) is padded with zeros.
+  put_state_header(out, state, n, scene_generation, f32 ? kStateFloat32 : 0);
   std::vector<float> narrow;
   const auto array = [&](const std::vector<double>& v, std::size_t per_body) {
-    const std::size_t at = out.size(), have = std::min(v.size(), per_body * n);
-    if (f32) {
-      narrow.assign(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(have));
-      put_f32s(out, narrow.data(), have);
-      out.resize(at + per_body * n * sizeof(float), '\0');
-    } else {
-      put_f64s(out, v.data(), have);
-      out.resize(at + per_body * n * sizeof(double), '\0');
-    }
+    put_real_array(out, v, per_body, n, f32, narrow);
   };
   array(state.position, 3);
   array(state.orientation, 4);
@@ -225,22 +241,10 @@ std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_gener
   const std::size_t k = std::min(watched.size(), kMaxWatched);
   std::string out;
   out.reserve(pose_state_bytes(n, k));
-  put_u32(out, kStateMagic);
-  put_u32(out, static_cast<std::uint32_t>(n));
-  put_u32(out, scene_generation);
-  put_u32(out, kStatePoses);
-  put_i64(out, state.tick);
-  const double t = state.sim_time;
-  put_f64s(out, &t, 1);
-  put_i64(out, state.stamp_ns);
+  put_state_header(out, state, n, scene_generation, kStatePoses);
   std::vector<float> narrow;
-  for (const auto& [v, per_body] : {std::pair{&state.position, std::size_t{3}},
-                                    std::pair{&state.orientation, std::size_t{4}}}) {
-    const std::size_t at = out.size(), have = std::min(v->size(), per_body * n);
-    narrow.assign(v->begin(), v->begin() + static_cast<std::ptrdiff_t>(have));
-    put_f32s(out, narrow.data(), have);
-    out.resize(at + per_body * n * sizeof(float), '\0');
-  }
+  put_real_array(out, state.position, 3, n, true, narrow);
+  put_real_array(out, state.orientation, 4, n, true, narrow);
   out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
   // The worst drifts, as the page's DriftTable.worst() finds them in a whole frame: the largest
   // value above 0 (NaN never wins), its slot, -1 when none.
