@@ -156,9 +156,9 @@ async function run(n, webDir) {
   await until(`${n} bodies drawn`, () => rv(`window.rigidView.bodies.length === ${n} && window.rigidView.frames >= 2`), 120000);
   await sleep(2000);  // warm-up: shaders compiled, the page's allocations settled
   await rv('window.rigidView.clearLatencies()');
-  const r0 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs]');
+  const r0 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
   await sleep(opt.seconds * 1000);
-  const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs]');
+  const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
   // Where the latency goes (pages that split it): publish -> worker -> main thread -> frame.
   const parts = await rv('window.rigidView.latencyParts ? window.rigidView.latencyParts() : null');
@@ -178,7 +178,10 @@ async function run(n, webDir) {
            state_ms: (r1[4] - r0[4]) / Math.max(r1[1] - r0[1], 1),
            to_worker_p50_ms: parts ? median(parts.toWorker) : NaN,
            to_main_p50_ms: parts ? median(parts.toMain) : NaN,
-           to_frame_p50_ms: parts ? median(parts.toFrame) : NaN };
+           to_frame_p50_ms: parts ? median(parts.toFrame) : NaN,
+           // States the page received, and those a newer one replaced before a frame applied them
+           // (pages since 2026-12-04 09:30 UTC; NaN before).
+           received_per_s: (r1[5] - r0[5]) / seconds, skipped_per_s: (r1[6] - r0[6]) / seconds };
 }
 
 // --rigidd-cost (see the top): rigidd and its Stats listener run throughout; the conditions take
@@ -288,7 +291,8 @@ try {
                     `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
                     `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s; p50 to the worker ` +
                     `${r.to_worker_p50_ms.toFixed(1)}, to the main thread ${r.to_main_p50_ms.toFixed(1)}, ` +
-                    `to the frame ${r.to_frame_p50_ms.toFixed(1)} ms); per frame: render ` +
+                    `to the frame ${r.to_frame_p50_ms.toFixed(1)} ms; ${r.received_per_s.toFixed(1)} states/s ` +
+                    `received, ${r.skipped_per_s.toFixed(1)} skipped); per frame: render ` +
                     `${r.render_ms.toFixed(2)} ms, per state: apply ${r.state_ms.toFixed(2)} ms`);
       }
     }

@@ -55,13 +55,16 @@ class ViewServer {
   static constexpr std::size_t kMaxQueuedTexts = 64;
   static constexpr std::size_t kMaxBadFrames = 20;  // then the page is disconnected
   // State frames written to a page and not yet acknowledged ({"op":"ack"}, protocol.hpp): more
-  // wait in its newest-only slot. Two, one being drawn while the next travels, as long as the two
-  // hold at most kMaxUnackedBytes; else one. A page that draws one frame while two large states
-  // arrive pays for a state it never shows: view_bench at 10^4 bodies (640 KB float32 frames then;
-  // pose frames are 320 KB, still one in flight), three alternated pairs, 12.8, 12.4, 14.2 frames/s
-  // with two in flight (25 states a second drawn: two a frame), 14.0, 19.6, 14.5 with one.
-  static constexpr std::size_t kMaxUnackedStates = 2;
-  static constexpr std::size_t kMaxUnackedBytes = std::size_t{256} << 10;
+  // wait in its newest-only slot. Up to four, as long as they hold at most kMaxUnackedBytes (the
+  // first always goes). The page acknowledges what arrived once its next frame is drawn, and that
+  // frame applies only the newest (app.js), so the states in flight cost it a receipt each, not a
+  // decode; what they buy is a state published just before the frame being there for it. With one
+  // in flight, the next state left rigid-view only when the page's frame was drawn, and so arrived
+  // just after the next frame had started and waited a whole frame: view_bench at 10^4 bodies,
+  // publish-to-frame p99 77-89 ms with one, 34-43 with four (bench/view/README.md). A page that
+  // stops drawing stops acknowledging: rigid-view then sends it nothing more.
+  static constexpr std::size_t kMaxUnackedStates = 4;
+  static constexpr std::size_t kMaxUnackedBytes = std::size_t{4} << 20;
 
   // Called on the server thread for each valid command of a page (with --read-only, only watch:
   // the others are refused). `reply` sends a text to that page only (any thread).

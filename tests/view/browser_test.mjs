@@ -478,8 +478,9 @@ try {
   }));
   if (refusal !== 'unknown op launch') throw new Error(`garbage answered: ${refusal}`);
 
-  // Flow control: a page that does not acknowledge the states it drew gets at most two; each
-  // {"op":"ack"} lets one more through (a slow page's states wait in rigid-view, newest only).
+  // Flow control: a page that does not acknowledge the states it drew gets at most four
+  // (kMaxUnackedStates, server.hpp); each {"op":"ack"} lets one more through (a slow page's states
+  // wait in rigid-view, newest only).
   const flow = await page.evaluate(() => new Promise((resolve) => {
     const ws = new WebSocket(`ws://${location.host}/ws`);
     ws.binaryType = 'arraybuffer';
@@ -489,7 +490,26 @@ try {
     setTimeout(() => { counts.push(states); ws.send('{"op":"ack"}'); }, 1000);
     setTimeout(() => { counts.push(states); ws.close(); resolve(counts); }, 2000);
   }));
-  if (flow[0] !== 2 || flow[1] !== 3) throw new Error(`states to a page that acknowledges none, then one: ${flow}`);
+  if (flow[0] !== 4 || flow[1] !== 5) throw new Error(`states to a page that acknowledges none, then one: ${flow}`);
+
+  // The page applies only the newest of the states that came since its last frame and acknowledges
+  // all of them. Its main thread kept busy for 0.3 s at a time, states queue up (up to four in
+  // flight); the next frames skip some, until more have been skipped than may be in flight; states
+  // keep coming afterwards, which they would not if the skipped ones were never acknowledged.
+  const counters = 'window.rigidView.statesReceived, window.rigidView.statesSkipped, window.rigidView.frames';
+  const skipped0 = await rv('window.rigidView.statesSkipped');
+  let skipped = 0;
+  for (let k = 0; k < 12 && skipped <= 4; ++k) {
+    await rv('(() => { const end = performance.now() + 300; while (performance.now() < end); })()');
+    await sleep(200);
+    skipped = (await rv('window.rigidView.statesSkipped')) - skipped0;
+  }
+  if (skipped <= 4) throw new Error(`states replaced by newer ones before a frame applied them: ${skipped}, expected more than 4`);
+  const [received0, , frames0] = await rv(`[${counters}]`);
+  await until('states after the skipped ones', async () => {
+    const [received, , frames] = await rv(`[${counters}]`);
+    return received >= received0 + 20 && frames >= frames0 + 20;
+  }, 10000);
 
   await manyBodies();
 

@@ -752,7 +752,6 @@ function stateApplied(tick, simTime, stampNs, n, generation) {
   // Latency: rigidd's publish (its wall clock) to the frame that draws this state (measured
   // when the frame is rendered). Both clocks are this host's CLOCK_REALTIME.
   if (stampNs > 0n) pendingStampMs = Number(stampNs / 1000n) / 1000;
-  statesToAck += 1;
   $('simtime').textContent = `${simTime.toFixed(3)} s`;
   stateChanged = true;
 }
@@ -775,12 +774,31 @@ function showAnswer(text, ok) {
 
 // The connection to rigid-view (reconnects when it goes away).
 let socket = null;
+// The newest state frame received and not applied yet ({ data, receivedAt, receivedWall }, from
+// the socket): the next animation frame applies it at its start. rigid-view keeps several states
+// in flight (server.hpp, kMaxUnackedStates), so that a state published just before a frame can be
+// there for it; when more than one comes between two frames only the newest is decoded, and
+// every one is acknowledged when that frame is drawn.
+let newestState = null;
+debug.statesReceived = 0;  // state frames received, and those a newer one replaced unapplied
+debug.statesSkipped = 0;
+
+function applyNewestState() {
+  if (!newestState) return;
+  const s = newestState;
+  newestState = null;
+  const t0 = performance.now();
+  applyState(s.data);
+  arrival = { wall: s.receivedWall, worker: s.receivedAt, main: performance.timeOrigin + t0 };
+  debug.stateMs += performance.now() - t0;
+}
 let nextId = 1;
 function connect() {
   // (Received on a Worker's thread: large state frames arrive whole, worker_socket.js.)
   socket = new WorkerSocket(`ws://${location.host}/ws`);
   socket.onopen = () => {
     statesToAck = 0;  // a new connection: nothing is owed
+    newestState = null;
     debug.connected = true;
     $('status').textContent = 'connected';
     $('status').className = '';
@@ -793,10 +811,10 @@ function connect() {
   };
   socket.onmessage = (event) => {
     if (event.data instanceof ArrayBuffer) {
-      const t0 = performance.now();
-      applyState(event.data);
-      arrival = { worker: event.receivedAt, main: performance.timeOrigin + t0 };
-      debug.stateMs += performance.now() - t0;
+      debug.statesReceived += 1;
+      if (newestState) debug.statesSkipped += 1;
+      newestState = event;
+      statesToAck += 1;
       return;
     }
     const msg = JSON.parse(event.data);
@@ -811,7 +829,10 @@ function connect() {
         $('controls').hidden = debug.mode === 'playback';
         if (debug.mode === 'playback') timeline.show(msg.read_only);
         break;
-      case 'scene': setScene(msg); break;
+      case 'scene':
+        newestState = null;  // the old scene's (still acknowledged with the next frame)
+        setScene(msg);
+        break;
       case 'stats': setStats(msg); break;
       case 'wrenches': setWrenches(msg); break;
       case 'playback': debug.playback = msg; timeline.update(msg); break;
@@ -1223,8 +1244,10 @@ function samplePlots(now) {
 // to the main thread's (the hand-over: waits while the main thread renders), on to the end of the
 // frame that draws it (waits for the next frame, then renders it).
 let pendingStampMs = null;
-let arrival = null;  // { worker, main }: wall clock (ms) of the last state's receipt
-let statesToAck = 0;  // state frames applied and not yet drawn
+// Wall clock (Date.now(), ms) of the last state's receipt on the worker, and the performance
+// clock (timeOrigin + now) there and on the main thread: { wall, worker, main } (worker_socket.js).
+let arrival = null;
+let statesToAck = 0;  // state frames received and not yet drawn
 const latencies = new Float64Array(4096);
 const latencyParts = { toWorker: new Float64Array(4096), toMain: new Float64Array(4096),
                        toFrame: new Float64Array(4096) };
@@ -1276,6 +1299,7 @@ function adaptRenderScale(now) {
 debug.renderScale = () => renderScale;
 
 function frame(now) {
+  applyNewestState();
   adaptRenderScale(now);
   sendPush();
   updateHover();
@@ -1287,14 +1311,16 @@ function frame(now) {
   renderer.render(scene, camera);
   debug.renderMs += performance.now() - t0;  // (the GPU's work may finish later)
   debug.rendered += 1;
-  // Drawn: rigid-view may send the next states (it keeps at most two unacknowledged).
+  // Drawn: rigid-view may send the next states (it keeps at most four unacknowledged), one for
+  // each received since the last frame, applied or replaced.
   for (; statesToAck > 0; --statesToAck)
     if (socket && socket.readyState === WebSocket.OPEN) socket.send('{"op":"ack"}');
   if (pendingStampMs !== null) {
+    // Against rigidd's stamp, the wall clock now (1 ms steps); within the page, its own clocks.
     const now = performance.timeOrigin + performance.now(), k = latencyCount++ % latencies.length;
-    latencies[k] = now - pendingStampMs;
-    const a = arrival && Number.isFinite(arrival.worker) ? arrival : { worker: NaN, main: NaN };
-    latencyParts.toWorker[k] = a.worker - pendingStampMs;
+    latencies[k] = Date.now() - pendingStampMs;
+    const a = arrival && Number.isFinite(arrival.worker) ? arrival : { wall: NaN, worker: NaN, main: NaN };
+    latencyParts.toWorker[k] = a.wall - pendingStampMs;
     latencyParts.toMain[k] = a.main - a.worker;
     latencyParts.toFrame[k] = now - a.main;
     pendingStampMs = null;

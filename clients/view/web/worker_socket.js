@@ -3,12 +3,15 @@
 // rendering at a few frames a second that took seconds per state (bench/view/README.md). The
 // Worker receives whole messages on its own thread and hands each ArrayBuffer over without a copy.
 // WorkerSocket has the part of WebSocket's interface app.js uses (readyState, send, close,
-// onopen, onclose, onmessage with event.data), and event.receivedAt: the worker's receipt of a
-// binary frame (ms since the epoch, as performance.timeOrigin + performance.now()).
+// onopen, onclose, onmessage with event.data), and for a binary frame the worker's receipt by two
+// clocks, where the page splits its publish-to-frame latency (bench/view): event.receivedWall,
+// Date.now(), to compare with rigidd's stamp (this host's CLOCK_REALTIME, read when it happens), and
+// event.receivedAt, performance.timeOrigin + performance.now(), to compare with the page's own
+// performance clock. (timeOrigin is the wall clock once, when the context starts: where the wall
+// clock is being slewed, as on this VM at times by 5 ms a second, the two drift apart.)
 
 // The worker: one WebSocket; text frames and binary frames (transferred) to the page, the page's
-// texts to rigid-view. Each binary frame carries the wall clock (ms) when the worker received it:
-// the page splits its publish-to-frame latency there (bench/view).
+// texts to rigid-view. Each binary frame carries the clocks of its receipt (above).
 const kWorker = `
 let ws = null;
 onmessage = (e) => {
@@ -19,7 +22,8 @@ onmessage = (e) => {
     ws.onclose = () => postMessage({ close: true });
     ws.onmessage = (m) => {
       if (m.data instanceof ArrayBuffer) {
-        postMessage({ data: m.data, at: performance.timeOrigin + performance.now() }, [m.data]);
+        postMessage({ data: m.data, at: performance.timeOrigin + performance.now(), wall: Date.now() },
+                    [m.data]);
       }
       else postMessage({ data: m.data });
     };
@@ -48,7 +52,7 @@ export class WorkerSocket {
       } else if (m.close) {
         this.shut();
       } else if (this.onmessage) {
-        this.onmessage({ data: m.data, receivedAt: m.at });
+        this.onmessage({ data: m.data, receivedAt: m.at, receivedWall: m.wall });
       }
     };
     this.worker.onerror = () => this.shut();
