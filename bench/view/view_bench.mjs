@@ -21,11 +21,14 @@
 // running throughout: the same listener in every condition) give per second its tick lateness
 // p99 and its overruns; each window reports the median and the largest per-second p99 and the
 // overruns it added, and each condition the medians over its windows.
+// --browser-cpus LIST (either mode, cdp driver) runs Chromium under `taskset -c LIST`: e.g. 0 keeps
+// it off CPU 1, the one rigidd pins its real-time threads to on a 2-CPU host (the last it may use).
 //
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
 //                           [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]
 //        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
 //                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
+//        either with [--browser-cpus LIST]
 import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { loadavg, tmpdir } from 'node:os';
@@ -39,7 +42,7 @@ const { Processes, sleep, until: untilEvery } = await import('../../tests/view/p
 const { launchCdp } = await import('./cdp_browser.mjs');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]\n       either with [--browser-cpus LIST] (--driver cdp)`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
@@ -82,6 +85,9 @@ for (let i = 2; i < argv.length; i += 2) {
     if (!(Number.isInteger(opt.publishEvery) && opt.publishEvery >= 1 && opt.publishEvery <= 1000)) usage(`--publish-every: expected an integer in [1, 1000], got ${value}`);
   } else if (key === '--rigidctl') {
     opt.rigidctl = value;
+  } else if (key === '--browser-cpus') {
+    if (!/^\d+([-,]\d+)*$/.test(value)) usage(`--browser-cpus: expected a CPU list such as 0 or 0-2,4, got ${value}`);
+    opt.browserCpus = value;
   } else if (key === '--driver') {
     if (value !== 'cdp' && value !== 'playwright') usage(`--driver: expected cdp or playwright, got ${value}`);
     opt.driver = value;
@@ -268,8 +274,10 @@ try {
   const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
                         '--disable-background-networking', '--disable-component-update', '--disable-sync',
                         '--use-angle=swiftshader', '--enable-unsafe-swiftshader'];
+  if (opt.browserCpus && opt.driver !== 'cdp') usage('--browser-cpus: only with --driver cdp');
   browser = opt.driver === 'cdp'
-    ? await launchCdp('/usr/bin/chromium', chromiumArgs)
+    ? (opt.browserCpus ? await launchCdp('/usr/bin/taskset', ['-c', opt.browserCpus, '/usr/bin/chromium', ...chromiumArgs])
+                       : await launchCdp('/usr/bin/chromium', chromiumArgs))
     : await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, chromiumSandbox: false,
                               args: chromiumArgs });
   if (costMode) {
