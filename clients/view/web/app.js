@@ -788,7 +788,14 @@ function applyNewestState() {
   const s = newestState;
   newestState = null;
   const t0 = performance.now();
-  applyState(s.data);
+  try {
+    applyState(s.data);
+  } catch (e) {
+    // Reported as uncaught, but not thrown: out of the animation frame, it would end three.js's
+    // animation loop.
+    reportError(e);
+    return;
+  }
   arrival = { wall: s.receivedWall, worker: s.receivedAt, main: performance.timeOrigin + t0 };
   debug.stateMs += performance.now() - t0;
 }
@@ -1241,8 +1248,8 @@ function samplePlots(now) {
 
 // The last 4096 latencies (ms) from rigidd's publish to the rendered frame (bench/view), and
 // their parts: publish to the worker's receipt (rigidd, the bus, rigid-view, the WebSocket), on
-// to the main thread's (the hand-over: waits while the main thread renders), on to the end of the
-// frame that draws it (waits for the next frame, then renders it).
+// to the main thread applying it (the hand-over, then the wait for the next frame's start), on to
+// the end of that frame (renders it).
 let pendingStampMs = null;
 // Wall clock (Date.now(), ms) of the last state's receipt on the worker, and the performance
 // clock (timeOrigin + now) there and on the main thread: { wall, worker, main } (worker_socket.js).
