@@ -186,8 +186,9 @@ async function run(n, webDir) {
            to_main_p50_ms: parts ? median(parts.toMain) : NaN,
            to_frame_p50_ms: parts ? median(parts.toFrame) : NaN,
            // States the page received, and those a newer one replaced before a frame applied them
-           // (pages since 2026-12-04 09:30 UTC; NaN before).
-           received_per_s: (r1[5] - r0[5]) / seconds, skipped_per_s: (r1[6] - r0[6]) / seconds };
+           // (pages since 2026-12-04 09:30 UTC; NaN before, whose counters come back as null).
+           received_per_s: r1[5] === null ? NaN : (r1[5] - r0[5]) / seconds,
+           skipped_per_s: r1[6] === null ? NaN : (r1[6] - r0[6]) / seconds };
 }
 
 // --rigidd-cost (see the top): rigidd and its Stats listener run throughout; the conditions take

@@ -61,7 +61,7 @@ class ViewServer {
   // decode; what they buy is a state published just before the frame being there for it. With one
   // in flight, the next state left rigid-view only when the page's frame was drawn, and so arrived
   // just after the next frame had started and waited a whole frame: view_bench at 10^4 bodies,
-  // publish-to-frame p99 77-89 ms with one, 34-43 with four (bench/view/README.md). A page that
+  // publish-to-frame p99 84-87 ms with one, 38-45 with four (bench/view/README.md). A page that
   // stops drawing stops acknowledging: rigid-view then sends it nothing more.
   static constexpr std::size_t kMaxUnackedStates = 4;
   static constexpr std::size_t kMaxUnackedBytes = std::size_t{4} << 20;
