@@ -26,6 +26,7 @@
 //
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
 //                           [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]
+//                           [--chromium-flags "--FLAG !--FLAG"] (added to / removed from the bench's own)
 //        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
 //                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
 //        either with [--browser-cpus LIST]
@@ -42,7 +43,7 @@ const { Processes, sleep, until: untilEvery } = await import('../../tests/view/p
 const { launchCdp } = await import('./cdp_browser.mjs');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]\n       either with [--browser-cpus LIST] (--driver cdp)`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright] [--chromium-flags "FLAGS"]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]\n       either with [--browser-cpus LIST] (--driver cdp)`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
@@ -88,6 +89,11 @@ for (let i = 2; i < argv.length; i += 2) {
   } else if (key === '--browser-cpus') {
     if (!/^\d+([-,]\d+)*$/.test(value)) usage(`--browser-cpus: expected a CPU list such as 0 or 0-2,4, got ${value}`);
     opt.browserCpus = value;
+  } else if (key === '--chromium-flags') {
+    // Space-separated, added after the bench's own (e.g. to compare compositing paths); !--FLAG
+    // removes one of the bench's own.
+    opt.chromiumFlags = value.split(' ').filter((f) => f.length);
+    if (!opt.chromiumFlags.every((f) => /^!?--/.test(f))) usage(`--chromium-flags: expected flags starting with -- or !--, got ${value}`);
   } else if (key === '--driver') {
     if (value !== 'cdp' && value !== 'playwright') usage(`--driver: expected cdp or playwright, got ${value}`);
     opt.driver = value;
@@ -166,6 +172,15 @@ async function run(n, webDir) {
   await sleep(opt.seconds * 1000);
   const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
+  // Refreshes of the 60 Hz frame clock (headless Chromium's) the page missed in the window: an
+  // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:30
+  // UTC keep their frames' timestamps; NaN before).
+  const times = await rv('window.rigidView.frameTimes ? window.rigidView.frameTimes() : null');
+  let missed = times ? 0 : NaN;
+  if (times)
+    for (let i = 1; i < times.length; ++i)
+      if (times[i - 1] >= r0[2] && times[i] <= r1[2]) missed += Math.max(0, Math.round((times[i] - times[i - 1]) / (1000 / 60)) - 1);
+  const decisions = await rv('window.rigidView.renderScaleDecisions ? window.rigidView.renderScaleDecisions() : null');
   // Where the latency goes (pages that split it): publish -> worker -> main thread -> frame.
   const parts = await rv('window.rigidView.latencyParts ? window.rigidView.latencyParts() : null');
   const instances = await rv('window.rigidView.instances()');
@@ -177,7 +192,9 @@ async function run(n, webDir) {
   if (errors.length) throw new Error(`page errors: ${errors.join(' | ')}`);
   const seconds = (r1[2] - r0[2]) / 1000;
   return { bodies: n, page: webDir || '(default)', path: instances.path || 'instanced',
-           meshes: instances.meshes, scale, fps: (r1[0] - r0[0]) / seconds,
+           meshes: instances.meshes, scale, fps: (r1[0] - r0[0]) / seconds, missed,
+           // The dynamic resolution's decisions since the page loaded (render_scale.js).
+           scale_lowered: decisions ? decisions.lowered : NaN, scale_raised: decisions ? decisions.raised : NaN,
            states_per_s: (r1[1] - r0[1]) / seconds, latency_p50_ms: quantile(latencies, 0.5),
            latency_p99_ms: quantile(latencies, 0.99), latency_samples: latencies.length, seconds,
            render_ms: (r1[3] - r0[3]) / Math.max(r1[0] - r0[0], 1),
@@ -272,9 +289,11 @@ async function rigiddCost() {
 }
 
 try {
+  const flags = opt.chromiumFlags || [];
   const chromiumArgs = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
                         '--disable-background-networking', '--disable-component-update', '--disable-sync',
-                        '--use-angle=swiftshader', '--enable-unsafe-swiftshader'];
+                        '--use-angle=swiftshader', '--enable-unsafe-swiftshader', ...flags.filter((f) => f[0] !== '!')]
+    .filter((f) => !flags.includes(`!${f}`));
   if (opt.browserCpus && opt.driver !== 'cdp') usage('--browser-cpus: only with --driver cdp');
   browser = opt.driver === 'cdp'
     ? (opt.browserCpus ? await launchCdp('/usr/bin/taskset', ['-c', opt.browserCpus, '/usr/bin/chromium', ...chromiumArgs])
@@ -295,7 +314,8 @@ try {
         const r = await run(n, webDir);
         results.push(r);
         console.log(`${n} bodies, page ${r.page} (${r.meshes} ${r.path} meshes, render scale ` +
-                    `${r.scale.toFixed(2)} at the end): ${r.fps.toFixed(1)} frames/s, ` +
+                    `${r.scale.toFixed(2)} at the end, lowered ${r.scale_lowered}, raised ` +
+                    `${r.scale_raised}): ${r.fps.toFixed(1)} frames/s (${r.missed} refreshes missed), ` +
                     `${r.states_per_s.toFixed(1)} states/s drawn, latency publish -> frame ` +
                     `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
                     `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s; p50 to the worker ` +
@@ -312,7 +332,7 @@ try {
       for (const webDir of opt.webDirs) {
         const rs = results.filter((r) => r.bodies === n && r.page === (webDir || '(default)'));
         const m = (key) => median(rs.map((r) => r[key])).toFixed(1);
-        console.log(`  ${n} bodies, page ${rs[0].page}: ${m('fps')} frames/s, ${m('states_per_s')} states/s, ` +
+        console.log(`  ${n} bodies, page ${rs[0].page}: ${m('fps')} frames/s (${m('missed')} refreshes missed), ${m('states_per_s')} states/s, ` +
                     `latency p50 ${m('latency_p50_ms')} ms, p99 ${m('latency_p99_ms')} ms ` +
                     `(to the worker ${m('to_worker_p50_ms')}, main thread ${m('to_main_p50_ms')}, frame ${m('to_frame_p50_ms')})`);
       }

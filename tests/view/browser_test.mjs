@@ -174,7 +174,12 @@ async function manyBodies() {
   // world axes there). Points within kEdge CSS px of an edge (where a neighbour's answer differs;
   // two rendered pixels more at a lower render scale) are skipped, as are points where the ray hits
   // another body.
-  // The scene is paused: the points the page's ray cast labels and the pixels are of one pose.
+  // The scene is paused: the points the page's ray cast labels and the pixels are of one pose;
+  // the render scale is held meanwhile (the dynamic resolution would change the pixels' size
+  // under kEdge), and a frame drawn at it first.
+  await rv('window.rigidView.holdRenderScale(true)');
+  const heldFrom = await rv('window.rigidView.rendered');
+  await until('a frame at the held render scale', () => rv(`window.rigidView.rendered >= ${heldFrom + 2}`), 3000);
   const grid = await page.evaluate(([cx, cy]) => {
     const kEdge = Math.ceil(2 + 2 / window.rigidView.renderScale()), kStep = 2, kReach = 80;
     const points = [];
@@ -203,6 +208,7 @@ async function manyBodies() {
   console.log(`large scene: probe silhouette: ${silhouette.probe} points on the probe, ${silhouette.empty} around it, ${silhouette.wrong.length} wrong`);
   if (silhouette.probe < 20 || silhouette.empty < 20) throw new Error(`too few points checked around the probe: ${JSON.stringify(silhouette)}`);
   if (silhouette.wrong.length) throw new Error(`the probe's drawn silhouette differs from its box: ${JSON.stringify(silhouette.wrong.slice(0, 10))}`);
+  await rv('window.rigidView.holdRenderScale(false)');
   // Picking without instanced meshes (the bodies' own shapes from the poses): hover the probe.
   await page.mouse.move(at.x, at.y);
   await until('the probe under the pointer in the large scene', () => rv('window.rigidView.hovered() === "probe"'), 3000);

@@ -9,6 +9,7 @@ import { OrbitControls } from '/three/OrbitControls.js';
 import { DriftTable } from '/drift.js';
 import { StripChart } from '/plot.js';
 import { WorkerSocket } from '/worker_socket.js';
+import { RenderScale } from '/render_scale.js';
 import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
 
 const kMagic = 0x33565752;  // "RWV3": reals f64, or f32 for large scenes; drifts (protocol.hpp)
@@ -26,13 +27,10 @@ const $ = (id) => document.getElementById(id);
 // third; SwiftShader's cost is per instance, that of one merged mesh per vertex, an impostor's
 // (4 vertices) mostly per pixel.
 const kManyBodies = 256;
-// The render scale (a fraction of devicePixelRatio): lowered while the page draws fewer than
-// kSlowFps frames a second, raised again after kRaiseAfter seconds at kFastFps or more. Measured
-// in headless Chromium's software renderer (bench/view/README.md): half the resolution draws 10^3
-// bodies 1.5x as fast (the rasterizer's cost is per pixel there); impostors' cost is mostly per
-// pixel: 10^4 draw 1.5x as fast at a quarter of the resolution as at half (meshes: 1.1-1.3x).
-const kScaleMin = 0.25, kScaleStep = 0.75, kSlowFps = 50, kFastFps = 57, kRaiseAfter = 10;
-let renderScale = 1;
+// The render scale (a fraction of devicePixelRatio): dynamic resolution, so that the page draws at
+// every refresh where WebGL runs on the CPU (render_scale.js says how and what was measured).
+const renderScaleControl = new RenderScale();
+let renderScale = renderScaleControl.scale;
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
   r.setPixelRatio(window.devicePixelRatio * renderScale);
@@ -533,8 +531,8 @@ function setScene(msg) {
   impostors = null;
   bodies.clear();
   const many = msg.bodies.length > kManyBodies;
-  setRenderScale(1);  // a new scene: its own frame rate decides
-  Object.assign(scaleWindow, { start: null, fast: 0 });
+  renderScaleControl.reset();  // a new scene: its own frame rate decides
+  setRenderScale(renderScaleControl.scale);
   useAntialias(!many);
   if (many) {
     setImpostorScene(msg, groupsOf(msg));
@@ -1275,37 +1273,38 @@ function resize() {
 }
 window.addEventListener('resize', resize);
 resize();
-// Dynamic resolution (see kScaleMin): one decision per second of frames, only while the page is
+// Dynamic resolution (render_scale.js): one decision per second of frames, only while the page is
 // shown (a hidden page gets no frames to count).
-const scaleWindow = { start: null, frames: 0, fast: 0 };
 function setRenderScale(scale) {
   if (scale === renderScale) return;
   renderScale = scale;
   renderer.setPixelRatio(window.devicePixelRatio * renderScale);
   resize();
 }
+// Held (a test comparing pixels with a ray cast at one scale): no decisions, as if hidden.
+let renderScaleHeld = false;
 function adaptRenderScale(now) {
-  if (scaleWindow.start === null || document.visibilityState !== 'visible') {
-    Object.assign(scaleWindow, { start: now, frames: 0 });
-    return;
-  }
-  ++scaleWindow.frames;
-  if (now - scaleWindow.start < 1000) return;
-  const fps = (scaleWindow.frames * 1000) / (now - scaleWindow.start);
-  Object.assign(scaleWindow, { start: now, frames: 0 });
-  if (fps < kSlowFps) {
-    scaleWindow.fast = 0;
-    setRenderScale(Math.max(kScaleMin, renderScale * kScaleStep));
-  } else if (fps >= kFastFps && renderScale < 1 && ++scaleWindow.fast >= kRaiseAfter) {
-    scaleWindow.fast = 0;
-    setRenderScale(Math.min(1, renderScale / kScaleStep));
-  } else if (fps < kFastFps) {
-    scaleWindow.fast = 0;
-  }
+  const judged = document.visibilityState === 'visible' && !renderScaleHeld;
+  setRenderScale(renderScaleControl.frame(now, judged));
 }
 debug.renderScale = () => renderScale;
+debug.holdRenderScale = (held) => { renderScaleHeld = Boolean(held); };
+// The controller's decisions so far (bench/view): lowered, raised, failed probes, and the current
+// wait before a probe (s).
+debug.renderScaleDecisions = () => ({ lowered: renderScaleControl.lowered, raised: renderScaleControl.raised,
+                                      failedProbes: renderScaleControl.failedProbes,
+                                      raiseAfter: renderScaleControl.raiseAfter });
+
+// The animation frames' timestamps (ms), the last 4096 (bench/view counts the refreshes missed).
+const frameTimes = new Float64Array(4096);
+let frameCount = 0;
+debug.frameTimes = () => {
+  const n = Math.min(frameCount, frameTimes.length), first = frameCount - n;
+  return Array.from({ length: n }, (_, i) => frameTimes[(first + i) % frameTimes.length]);
+};
 
 function frame(now) {
+  frameTimes[frameCount++ % frameTimes.length] = now;
   applyNewestState();
   adaptRenderScale(now);
   sendPush();
