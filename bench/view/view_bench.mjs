@@ -176,8 +176,9 @@ async function run(n, webDir) {
   // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:30
   // UTC keep their frames' timestamps; NaN before).
   const times = await rv('window.rigidView.frameTimes ? window.rigidView.frameTimes() : null');
-  let missed = times ? 0 : NaN;
-  if (times)
+  // (NaN too when the page's last 4096 frames do not reach back to the window's start.)
+  let missed = times && times.length && times[0] <= r0[2] ? 0 : NaN;
+  if (!Number.isNaN(missed))
     for (let i = 1; i < times.length; ++i)
       if (times[i - 1] >= r0[2] && times[i] <= r1[2]) missed += Math.max(0, Math.round((times[i] - times[i - 1]) / (1000 / 60)) - 1);
   const decisions = await rv('window.rigidView.renderScaleDecisions ? window.rigidView.renderScaleDecisions() : null');

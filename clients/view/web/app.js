@@ -1281,14 +1281,25 @@ function setRenderScale(scale) {
   renderer.setPixelRatio(window.devicePixelRatio * renderScale);
   resize();
 }
-// Held (a test comparing pixels with a ray cast at one scale): no decisions, as if hidden.
+// Held (a test comparing pixels with a ray cast at a known scale): no decisions, as if hidden.
 let renderScaleHeld = false;
 function adaptRenderScale(now) {
   const judged = document.visibilityState === 'visible' && !renderScaleHeld;
-  setRenderScale(renderScaleControl.frame(now, judged));
+  const scale = renderScaleControl.frame(now, judged);
+  if (!renderScaleHeld) setRenderScale(scale);
 }
 debug.renderScale = () => renderScale;
-debug.holdRenderScale = (held) => { renderScaleHeld = Boolean(held); };
+// holdRenderScale(scale): render at that scale until holdRenderScale(null) hands it back.
+debug.holdRenderScale = (scale) => {
+  if (scale === null) {
+    renderScaleHeld = false;
+    setRenderScale(renderScaleControl.scale);
+    return;
+  }
+  if (!(scale > 0 && scale <= 1)) throw new RangeError(`holdRenderScale: expected a scale in (0, 1] or null, got ${scale}`);
+  renderScaleHeld = true;
+  setRenderScale(scale);
+};
 // The controller's decisions so far (bench/view): lowered, raised, failed probes, and the current
 // wait before a probe (s).
 debug.renderScaleDecisions = () => ({ lowered: renderScaleControl.lowered, raised: renderScaleControl.raised,
