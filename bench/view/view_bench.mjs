@@ -173,7 +173,7 @@ async function run(n, webDir) {
   const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
   // Refreshes of the 60 Hz frame clock (headless Chromium's) the page missed in the window: an
-  // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:30
+  // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:00
   // UTC keep their frames' timestamps; NaN before).
   const times = await rv('window.rigidView.frameTimes ? window.rigidView.frameTimes() : null');
   // (NaN too when the page's last 4096 frames do not reach back to the window's start.)

@@ -31,6 +31,9 @@ const kManyBodies = 256;
 // every refresh where WebGL runs on the CPU (render_scale.js says how and what was measured).
 const renderScaleControl = new RenderScale();
 let renderScale = renderScaleControl.scale;
+// Held (a test comparing pixels with a ray cast at a known scale, debug.holdRenderScale): the
+// controller decides nothing, as if the page were hidden, and a new scene keeps the held scale.
+let renderScaleHeld = false;
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
   r.setPixelRatio(window.devicePixelRatio * renderScale);
@@ -532,7 +535,7 @@ function setScene(msg) {
   bodies.clear();
   const many = msg.bodies.length > kManyBodies;
   renderScaleControl.reset();  // a new scene: its own frame rate decides
-  setRenderScale(renderScaleControl.scale);
+  if (!renderScaleHeld) setRenderScale(renderScaleControl.scale);
   useAntialias(!many);
   if (many) {
     setImpostorScene(msg, groupsOf(msg));
@@ -1281,8 +1284,6 @@ function setRenderScale(scale) {
   renderer.setPixelRatio(window.devicePixelRatio * renderScale);
   resize();
 }
-// Held (a test comparing pixels with a ray cast at a known scale): no decisions, as if hidden.
-let renderScaleHeld = false;
 function adaptRenderScale(now) {
   const judged = document.visibilityState === 'visible' && !renderScaleHeld;
   const scale = renderScaleControl.frame(now, judged);
