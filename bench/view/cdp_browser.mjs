@@ -51,6 +51,7 @@ export async function launchCdp(executable, args) {
   await send('Browser.getVersion');
 
   return {
+    pid: child.pid,  // (the bench sums its process tree's CPU time)
     async newPage({ width, height }) {
       // Each page in a window of its own: a second tab in one window would hide the first, and a
       // hidden page gets no animation frames (--rigidd-cost opens two).

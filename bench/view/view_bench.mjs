@@ -23,14 +23,19 @@
 // overruns it added, and each condition the medians over its windows.
 // --browser-cpus LIST (either mode, cdp driver) runs Chromium under `taskset -c LIST`: e.g. 0 keeps
 // it off CPU 1, the one rigidd pins its real-time threads to on a 2-CPU host (the last it may use).
+// --paused pauses rigidd (from the page) before the window: what a page left open on a paused
+// scene costs. With the cdp driver every run also reports the CPU time Chromium's processes took
+// in the window (user + system, all of them: the page, the GPU process, the browser), in % of
+// one CPU.
 //
 // usage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100]
 //                           [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright]
 //                           [--chromium-flags "--FLAG !--FLAG"] (added to / removed from the bench's own)
+//                           [--paused]
 //        node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N]
 //                           [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]
 //        either with [--browser-cpus LIST]
-import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync, appendFileSync, existsSync, readdirSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { loadavg, tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
@@ -43,7 +48,7 @@ const { Processes, sleep, until: untilEvery } = await import('../../tests/view/p
 const { launchCdp } = await import('./cdp_browser.mjs');
 
 function usage(message) {
-  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright] [--chromium-flags "FLAGS"]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]\n       either with [--browser-cpus LIST] (--driver cdp)`);
+  console.error(`view_bench: ${message}\nusage: node view_bench.mjs RIGIDD RIGID_VIEW [--bodies 1000,10000] [--seconds 10] [--rate 100] [--web-dirs DIR,...] [--repeat N] [--csv FILE] [--driver cdp|playwright] [--chromium-flags "FLAGS"] [--paused]\n       node view_bench.mjs RIGIDD RIGID_VIEW --rigidd-cost [--rigidctl RIGIDCTL] [--bodies N] [--seconds S] [--rate HZ] [--publish-every K] [--repeat N]\n       either with [--browser-cpus LIST] (--driver cdp)`);
   process.exit(2);
 }
 const argv = process.argv.slice(2);
@@ -52,6 +57,7 @@ const [rigidd, rigidView] = argv;
 for (const exe of [rigidd, rigidView]) if (!existsSync(exe)) usage(`no such executable: ${exe}`);
 // --rigidd-cost (a flag: no value) changes the defaults: see the top.
 const costMode = argv.includes('--rigidd-cost');
+const flags = new Set(['--rigidd-cost', '--paused']);
 const opt = costMode
   ? { bodies: [1000], seconds: 20, rate: 1000, csv: null, webDirs: [null], repeat: 3, publishEvery: 10,
       rigidctl: join(dirname(dirname(rigidView)), 'rigidctl'), driver: 'cdp' }
@@ -59,7 +65,8 @@ const opt = costMode
       driver: 'cdp' };
 for (let i = 2; i < argv.length; i += 2) {
   const key = argv[i], value = argv[i + 1];
-  if (key === '--rigidd-cost') {
+  if (flags.has(key)) {
+    if (key === '--paused') opt.paused = true;
     --i;  // a flag
     continue;
   }
@@ -104,7 +111,7 @@ for (let i = 2; i < argv.length; i += 2) {
 
 if (costMode) {
   if (opt.bodies.length !== 1) usage('--rigidd-cost: --bodies takes one size');
-  if (opt.webDirs.length !== 1 || opt.csv) usage('--rigidd-cost: --web-dirs and --csv do not apply');
+  if (opt.webDirs.length !== 1 || opt.csv || opt.paused) usage('--rigidd-cost: --web-dirs, --csv and --paused do not apply');
   if (!existsSync(opt.rigidctl)) usage(`--rigidctl: no such executable: ${opt.rigidctl}`);
   if (opt.seconds < 5) usage('--rigidd-cost: --seconds must be at least 5 (Stats come once a second)');
 }
@@ -152,6 +159,31 @@ const quantile = (sorted, q) => (sorted.length ? sorted[Math.min(sorted.length -
 
 const median = (xs) => quantile([...xs].sort((a, b) => a - b), 0.5);
 
+// CPU time (s, user + system) of process `root` and all its descendants now living, from /proc
+// (NaN without a pid: the playwright driver).
+function treeCpuSeconds(root) {
+  if (!root) return NaN;
+  const stats = [];
+  for (const entry of readdirSync('/proc')) {
+    if (!/^\d+$/.test(entry)) continue;
+    try {
+      // Fields after the command's closing parenthesis: state ppid ... utime (14) stime (15).
+      const text = readFileSync(`/proc/${entry}/stat`, 'utf8');
+      const f = text.slice(text.lastIndexOf(')') + 2).split(' ');
+      stats.push({ pid: Number(entry), ppid: Number(f[1]), ticks: Number(f[11]) + Number(f[12]) });
+    } catch {
+      // (gone meanwhile)
+    }
+  }
+  const inTree = new Set([root]);
+  for (let grew = true; grew;) {
+    grew = false;
+    for (const p of stats) if (!inTree.has(p.pid) && inTree.has(p.ppid)) { inTree.add(p.pid); grew = true; }
+  }
+  const kTicksPerSecond = 100;  // sysconf(_SC_CLK_TCK) on Linux
+  return stats.filter((p) => inTree.has(p.pid)).reduce((sum, p) => sum + p.ticks, 0) / kTicksPerSecond;
+}
+
 async function run(n, webDir) {
   const sceneFile = join(work, `bench_${n}.pbtxt`);
   writeFileSync(sceneFile, sceneText(n));
@@ -167,17 +199,25 @@ async function run(n, webDir) {
   const rv = (expr) => page.evaluate(expr);
   await until(`${n} bodies drawn`, () => rv(`window.rigidView.bodies.length === ${n} && window.rigidView.frames >= 2`), 120000);
   await sleep(2000);  // warm-up: shaders compiled, the page's allocations settled
+  if (opt.paused) {
+    await rv('window.rigidView.control("pause")');
+    await until('rigidd paused', () => rv('window.rigidView.replies.some((r) => r.op === "pause" && r.ok)'), 10000);
+    await sleep(1000);  // (past the page's linger after the last state that moved)
+  }
   await rv('window.rigidView.clearLatencies()');
+  const cpu0 = treeCpuSeconds(browser.pid);
   const r0 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
   await sleep(opt.seconds * 1000);
   const r1 = await rv('[window.rigidView.rendered, window.rigidView.frames, performance.now(), window.rigidView.renderMs, window.rigidView.stateMs, window.rigidView.statesReceived ?? NaN, window.rigidView.statesSkipped ?? NaN]');
+  const cpu1 = treeCpuSeconds(browser.pid);
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
   // Refreshes of the 60 Hz frame clock (headless Chromium's) the page missed in the window: an
   // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:00
   // UTC keep their frames' timestamps; NaN before).
   const times = await rv('window.rigidView.frameTimes ? window.rigidView.frameTimes() : null');
   // (NaN too when the page's last 4096 frames do not reach back to the window's start.)
-  let missed = times && times.length && times[0] <= r0[2] ? 0 : NaN;
+  // (NaN when paused: the page then draws only on change, redraw.js, and skips the rest.)
+  let missed = !opt.paused && times && times.length && times[0] <= r0[2] ? 0 : NaN;
   if (!Number.isNaN(missed))
     for (let i = 1; i < times.length; ++i)
       if (times[i - 1] >= r0[2] && times[i] <= r1[2]) missed += Math.max(0, Math.round((times[i] - times[i - 1]) / (1000 / 60)) - 1);
@@ -194,6 +234,7 @@ async function run(n, webDir) {
   const seconds = (r1[2] - r0[2]) / 1000;
   return { bodies: n, page: webDir || '(default)', path: instances.path || 'instanced',
            meshes: instances.meshes, scale, fps: (r1[0] - r0[0]) / seconds, missed,
+           browser_cpu_pct: (100 * (cpu1 - cpu0)) / seconds,
            // The dynamic resolution's decisions since the page loaded (render_scale.js).
            scale_lowered: decisions ? decisions.lowered : NaN, scale_raised: decisions ? decisions.raised : NaN,
            states_per_s: (r1[1] - r0[1]) / seconds, latency_p50_ms: quantile(latencies, 0.5),
@@ -316,7 +357,8 @@ try {
         results.push(r);
         console.log(`${n} bodies, page ${r.page} (${r.meshes} ${r.path} meshes, render scale ` +
                     `${r.scale.toFixed(2)} at the end, lowered ${r.scale_lowered}, raised ` +
-                    `${r.scale_raised}): ${r.fps.toFixed(1)} frames/s (${r.missed} refreshes missed), ` +
+                    `${r.scale_raised})${opt.paused ? ', paused' : ''}: ${r.fps.toFixed(1)} frames/s (${r.missed} refreshes missed), ` +
+                    `Chromium ${r.browser_cpu_pct.toFixed(0)}% CPU, ` +
                     `${r.states_per_s.toFixed(1)} states/s drawn, latency publish -> frame ` +
                     `p50 ${r.latency_p50_ms.toFixed(1)} ms, p99 ${r.latency_p99_ms.toFixed(1)} ms ` +
                     `(${r.latency_samples} states, ${r.seconds.toFixed(1)} s; p50 to the worker ` +
@@ -333,7 +375,7 @@ try {
       for (const webDir of opt.webDirs) {
         const rs = results.filter((r) => r.bodies === n && r.page === (webDir || '(default)'));
         const m = (key) => median(rs.map((r) => r[key])).toFixed(1);
-        console.log(`  ${n} bodies, page ${rs[0].page}: ${m('fps')} frames/s (${m('missed')} refreshes missed), ${m('states_per_s')} states/s, ` +
+        console.log(`  ${n} bodies, page ${rs[0].page}: ${m('fps')} frames/s (${m('missed')} refreshes missed), Chromium ${m('browser_cpu_pct')}% CPU, ${m('states_per_s')} states/s, ` +
                     `latency p50 ${m('latency_p50_ms')} ms, p99 ${m('latency_p99_ms')} ms ` +
                     `(to the worker ${m('to_worker_p50_ms')}, main thread ${m('to_main_p50_ms')}, frame ${m('to_frame_p50_ms')})`);
       }

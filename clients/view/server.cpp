@@ -31,7 +31,7 @@ struct File {
 };
 
 // The page's files: URL path -> (file under the web directory, content type).
-constexpr std::array<std::array<const char*, 3>, 10> kFiles{{
+constexpr std::array<std::array<const char*, 3>, 11> kFiles{{
     {"/", "index.html", "text/html; charset=utf-8"},
     {"/app.js", "app.js", "text/javascript; charset=utf-8"},
     {"/drift.js", "drift.js", "text/javascript; charset=utf-8"},  // energy, momentum drift
@@ -39,6 +39,7 @@ constexpr std::array<std::array<const char*, 3>, 10> kFiles{{
     {"/worker_socket.js", "worker_socket.js", "text/javascript; charset=utf-8"},  // its WebSocket
     {"/timeline.js", "timeline.js", "text/javascript; charset=utf-8"},  // playback's timeline
     {"/render_scale.js", "render_scale.js", "text/javascript; charset=utf-8"},  // resolution
+    {"/redraw.js", "redraw.js", "text/javascript; charset=utf-8"},              // draw on change
     {"/three/three.module.js", "three/three.module.js", "text/javascript; charset=utf-8"},
     {"/three/three.core.js", "three/three.core.js", "text/javascript; charset=utf-8"},
     {"/three/OrbitControls.js", "three/OrbitControls.js", "text/javascript; charset=utf-8"},

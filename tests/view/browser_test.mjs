@@ -315,12 +315,47 @@ try {
   if (!(err < 1e-9)) throw new Error(`drawn pose differs from the published state by ${err}`);
   if (Math.abs(published.orientation[0]) > 0.999) throw new Error('the spinner has not turned');
 
+  // Draw on change (clients/view/web/redraw.js): paused, with the pointer and the camera still,
+  // the page draws a frame a second (its heartbeat) and skips the rest, although rigidd still
+  // publishes (the same poses); a turn of the mouse wheel over the view (a zoom) is drawn again.
+  // (The plots' canvases too are redrawn only when they get a sample: plotDraws against plots.)
+  const frameCounts = async () => {
+    const [drawn, skipped, plotDraws, plots] = await rv('[window.rigidView.rendered, window.rigidView.skipped, window.rigidView.plotDraws(), window.rigidView.plots()]');
+    return { drawn, skipped, plotDraws: plotDraws.drift + plotDraws.lateness, samples: plots.drift + plots.lateness };
+  };
+  await sleep(600);  // past the linger of the last input (the click on pause)
+  const idle0 = await frameCounts(), statesIdle0 = await rv('window.rigidView.frames');
+  await sleep(2500);
+  const idle1 = await frameCounts(), statesIdle1 = await rv('window.rigidView.frames');
+  const idle = { drawn: idle1.drawn - idle0.drawn, skipped: idle1.skipped - idle0.skipped,
+                 states: statesIdle1 - statesIdle0, plotDraws: idle1.plotDraws - idle0.plotDraws,
+                 plotSamples: idle1.samples - idle0.samples };
+  console.log(`paused, still: ${idle.drawn} frames drawn, ${idle.skipped} skipped, ${idle.states} states applied, plots redrawn ${idle.plotDraws} times for ${idle.plotSamples} samples in 2.5 s`);
+  if (idle.states < 2) throw new Error(`paused: rigidd's states stopped reaching the page: ${JSON.stringify(idle)}`);
+  if (idle.drawn > 4 || idle.skipped < 10) throw new Error(`paused and still, the page drew ${JSON.stringify(idle)} (expected a heartbeat a second, the rest skipped)`);
+  if (idle.plotDraws > idle.plotSamples + 2) throw new Error(`the plots were redrawn more often than they got samples: ${JSON.stringify(idle)}`);
+  const camera0 = await rv('window.rigidView.cameraPosition()');
+  const viewCentre = await rv('(() => { const r = document.querySelector("#view canvas").getBoundingClientRect(); return { x: r.left + r.width / 2, y: r.top + r.height / 2 }; })()');
+  await page.mouse.move(viewCentre.x, viewCentre.y);
+  await page.mouse.wheel(0, -200);
+  await until('frames drawn for the zoom', async () => (await frameCounts()).drawn >= idle1.drawn + 3, 5000);
+  const camera1 = await rv('window.rigidView.cameraPosition()');
+  if (camera1.every((x, i) => x === camera0[i])) throw new Error(`the wheel did not move the camera: ${camera0}`);
+
   const stepReply = await press('step', 'step');
   await until('the page to draw the stepped state',
               () => rv(`window.rigidView.lastState.tick === ${stepReply.tick}`), 5000);
   const reset = await press('reset', 'reset');
   if (reset.tick !== 0) throw new Error(`reset answered at tick ${reset.tick}`);
   await press('resume', 'resume');
+  // Moving again, every frame is drawn (each state's poses differ from the last's).
+  await sleep(300);
+  const moving0 = await frameCounts();
+  await sleep(1500);
+  const moving1 = await frameCounts();
+  const moving = { drawn: moving1.drawn - moving0.drawn, skipped: moving1.skipped - moving0.skipped };
+  console.log(`running: ${moving.drawn} frames drawn, ${moving.skipped} skipped in 1.5 s`);
+  if (moving.drawn < 10 || moving.skipped > moving.drawn / 4) throw new Error(`running, the page drew ${JSON.stringify(moving)} (expected every frame)`);
 
   // Push with the mouse: drag the ball (at rest after the reset, no gravity) to the right on the
   // screen. Its velocity, read by rigidctl, must point right on the screen; an arrow is drawn

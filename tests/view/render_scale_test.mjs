@@ -4,18 +4,9 @@
 // usage: node render_scale_test.mjs
 import assert from 'node:assert/strict';
 import { RenderScale } from '../../clients/view/web/render_scale.js';
+import { test, done } from './unit.mjs';
 
 const kRefreshMs = 1000 / 60;
-let failures = 0;
-function test(name, body) {
-  try {
-    body();
-    console.log(`ok   ${name}`);
-  } catch (e) {
-    ++failures;
-    console.log(`FAIL ${name}\n${e.stack}`);
-  }
-}
 
 // Runs `seconds` of animation frames on a 60 Hz display: a frame takes frameMs(scale, t) and is
 // shown at the first refresh after it is done (so a page slower than the refresh draws every
@@ -140,8 +131,4 @@ test('bad options are refused with the option named', () => {
   assert.throws(() => new RenderScale({ probeWindow: NaN }), /probeWindow must be >= 0, got NaN/);
 });
 
-if (failures) {
-  console.log(`${failures} failed`);
-  process.exit(1);
-}
-console.log('all passed');
+done();

@@ -10,6 +10,7 @@ import { DriftTable } from '/drift.js';
 import { StripChart } from '/plot.js';
 import { WorkerSocket } from '/worker_socket.js';
 import { RenderScale } from '/render_scale.js';
+import { Redraw } from '/redraw.js';
 import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
 
 const kMagic = 0x33565752;  // "RWV3": reals f64, or f32 for large scenes; drifts (protocol.hpp)
@@ -34,6 +35,16 @@ let renderScale = renderScaleControl.scale;
 // Held (a test comparing pixels with a ray cast at a known scale, debug.holdRenderScale): the
 // controller decides nothing, as if the page were hidden, and a new scene keeps the held scale.
 let renderScaleHeld = false;
+// Draw on change (redraw.js): a frame renders only when something it shows changed, reported by
+// wake(); a paused scene under a still camera costs no rendering.
+const redraw = new Redraw();
+const wake = () => redraw.wake(performance.now());
+// Any input on the page may change the picture (the camera, a hover, a checkbox, the body list):
+// the frames that follow are drawn. Capture phase, so that no handler can stop it.
+for (const type of ['pointerdown', 'pointermove', 'pointerup', 'wheel', 'keydown', 'keyup', 'input',
+                    'change', 'click', 'resize', 'focus'])
+  window.addEventListener(type, wake, { capture: true, passive: true });
+document.addEventListener('visibilitychange', wake);
 function makeRenderer(antialias) {
   const r = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
   r.setPixelRatio(window.devicePixelRatio * renderScale);
@@ -137,6 +148,7 @@ const debug = {
   // The body whose axes are drawn (under the pointer), the followed camera target.
   hovered() { return hoverAxes.visible && hovered ? hovered.name : null; },
   target() { return controls.target.toArray(); },
+  cameraPosition() { return camera.position.toArray(); },
   // Where a body's centre (plus `offset`, in W) is on the screen, in CSS pixels of the page.
   screenOf(name, offset = [0, 0, 0]) {
     const b = bodyList.find((x) => x.name === name);
@@ -639,6 +651,8 @@ function setImpostorScene(msg, groups) {
 
 // What follows a new scene, however it is drawn.
 function sceneSet(msg) {
+  wake();
+  seen = null;
   bodyList = msg.bodies.map((d) => bodies.get(d.id)).filter((b) => b);
   drift.setBodies(msg.bodies.length);
   sceneDt = Number.isFinite(msg.dt) && msg.dt > 0 ? msg.dt : 0;
@@ -719,6 +733,7 @@ function applyPoses(buffer, v, n) {
 function placeBodies(n, ids, pos, ori, vel, omega) {
   const { m, one } = scratch;
   if (slots.length !== n) slots = new Int32Array(n);
+  if (posesChanged(n, ids, pos, ori)) wake();
   for (let i = 0; i < n; ++i) {
     const b = bodies.get(ids[i]);
     slots[i] = b ? b.index : -1;
@@ -738,8 +753,26 @@ function placeBodies(n, ids, pos, ori, vel, omega) {
   }
 }
 
+// Whether a state's poses (ids, positions, orientations) differ from the last state's, which it
+// replaces as the one compared against: kept as views of its buffer (each state comes in a buffer
+// of its own that nothing changes, worker_socket.js), so a moving scene costs a comparison or two
+// and no copy. Exact: a paused scene's states repeat the same numbers. (The watched bodies'
+// double-precision records change nothing drawn.)
+let seen = null;
+function posesChanged(n, ids, pos, ori) {
+  const last = seen;
+  seen = { ids, pos, ori };
+  if (!last || last.ids.length !== n) return true;
+  for (let i = 0; i < 4 * n; ++i) if (last.ori[i] !== ori[i]) return true;
+  for (let i = 0; i < 3 * n; ++i) if (last.pos[i] !== pos[i]) return true;
+  for (let i = 0; i < n; ++i) if (last.ids[i] !== ids[i]) return true;
+  return false;
+}
+
 // What follows a state, whichever its frame.
 function stateApplied(tick, simTime, stampNs, n, generation) {
+  // The wrench arrows drawn depend on the tick (acting), as well as on the poses.
+  if (wrenches.length && (!debug.lastState || debug.lastState.tick !== tick)) wake();
   if (impostors) impostors.commit();
   for (const g of instanced) {
     g.mesh.instanceMatrix.needsUpdate = true;
@@ -755,6 +788,7 @@ function stateApplied(tick, simTime, stampNs, n, generation) {
   if (stampNs > 0n) pendingStampMs = Number(stampNs / 1000n) / 1000;
   $('simtime').textContent = `${simTime.toFixed(3)} s`;
   stateChanged = true;
+  if (selected && !selectedShown) showSelected();
 }
 
 function setStats(s) {
@@ -950,6 +984,7 @@ $('view').addEventListener('pointerup', (event) => {
 $('view').addEventListener('pointercancel', release);
 function sendPush() {
   if (!grab || !socket || socket.readyState !== WebSocket.OPEN) return;
+  wake();  // the pull's line follows the body
   // The picked point in W: p_WBo + R_WB p_BoP.
   const at = grab.local.clone().applyQuaternion(grab.body.q).add(grab.body.p);
   const f = grab.target.clone().sub(at).multiplyScalar(kPushGain);
@@ -981,6 +1016,7 @@ const arrows = [];
 const isVec3 = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
 function setWrenches(msg) {
   if (!Array.isArray(msg.wrenches)) return;
+  if (wrenches.length || msg.wrenches.length) wake();
   wrenches = msg.wrenches.slice(-kMaxArrows).filter((w) => w && Number.isInteger(w.body) &&
     Number.isFinite(w.tick) && Number.isFinite(w.ttl) && isVec3(w.force) && isVec3(w.point) &&
     (w.torque === undefined || isVec3(w.torque)));
@@ -1179,7 +1215,9 @@ function fillBodyList() {
 }
 $('search').oninput = fillBodyList;
 function select(b) {
+  wake();  // (trails, follow; a click on the body list wakes too)
   selected = b;
+  selectedShown = false;
   watchSelected();
   debug.selected = b ? b.name : null;
   $('selected').style.display = b ? '' : 'none';
@@ -1196,6 +1234,9 @@ function watchSelected() {
 }
 setInterval(() => { if (selected) watchSelected(); }, kWatchEvery);
 const fmt = (a) => a.map((x) => (Math.abs(x) < 1e-12 ? '0' : x.toPrecision(4))).join(', ');
+// The panel follows the plots' 10 samples a second, but a body just selected is shown with the
+// first state that has all of it (selectedShown), not up to a sample later.
+let selectedShown = false;
 function showSelected() {
   const b = selected;
   if (!b || !b.placed) return;
@@ -1203,6 +1244,7 @@ function showSelected() {
   $('selq').textContent = fmt([b.q.w, b.q.x, b.q.y, b.q.z]);
   $('selv').textContent = b.moving ? fmt(b.v.toArray()) : '–';
   $('selw').textContent = b.moving ? fmt(b.w.toArray()) : '–';
+  selectedShown = b.moving;
 }
 // "Follow": the camera keeps its offset from the selected body.
 function follow() {
@@ -1261,6 +1303,9 @@ const latencyParts = { toWorker: new Float64Array(4096), toMain: new Float64Arra
                        toFrame: new Float64Array(4096) };
 let latencyCount = 0;
 debug.rendered = 0;
+debug.skipped = 0;  // frames not drawn: nothing changed (redraw.js)
+// Redraws of the plots' canvases (they too draw only on change).
+debug.plotDraws = () => ({ drift: driftChart.drawn, lateness: latenessChart.drawn });
 debug.renderMs = 0;  // total time in renderer.render, and in applying states (bench/view)
 debug.stateMs = 0;
 debug.latencies = () => Array.from(latencies.subarray(0, Math.min(latencyCount, latencies.length)));
@@ -1269,6 +1314,7 @@ debug.latencyParts = () => Object.fromEntries(Object.entries(latencyParts).map(
 debug.clearLatencies = () => { latencyCount = 0; };
 
 function resize() {
+  wake();
   const w = window.innerWidth, h = window.innerHeight;
   renderer.setSize(w, h);
   camera.aspect = w / Math.max(h, 1);
@@ -1284,8 +1330,9 @@ function setRenderScale(scale) {
   renderer.setPixelRatio(window.devicePixelRatio * renderScale);
   resize();
 }
-function adaptRenderScale(now) {
-  const judged = document.visibilityState === 'visible' && !renderScaleHeld;
+function adaptRenderScale(now, drawn) {
+  // (Frames not drawn (redraw.js) say nothing of what drawing costs: the window starts again.)
+  const judged = document.visibilityState === 'visible' && !renderScaleHeld && drawn;
   const scale = renderScaleControl.frame(now, judged);
   if (!renderScaleHeld) setRenderScale(scale);
 }
@@ -1300,6 +1347,7 @@ debug.holdRenderScale = (scale) => {
   if (!(scale > 0 && scale <= 1)) throw new RangeError(`holdRenderScale: expected a scale in (0, 1] or null, got ${scale}`);
   renderScaleHeld = true;
   setRenderScale(scale);
+  wake();  // (a frame at the held scale, even if it was the scale already)
 };
 // The controller's decisions so far (bench/view): lowered, raised, failed probes, and the current
 // wait before a probe (s).
@@ -1307,7 +1355,7 @@ debug.renderScaleDecisions = () => ({ lowered: renderScaleControl.lowered, raise
                                       failedProbes: renderScaleControl.failedProbes,
                                       raiseAfter: renderScaleControl.raiseAfter });
 
-// The animation frames' timestamps (ms), the last 4096 (bench/view counts the refreshes missed).
+// The drawn frames' timestamps (ms), the last 4096 (bench/view counts the refreshes missed).
 const frameTimes = new Float64Array(4096);
 let frameCount = 0;
 debug.frameTimes = () => {
@@ -1316,19 +1364,25 @@ debug.frameTimes = () => {
 };
 
 function frame(now) {
-  frameTimes[frameCount++ % frameTimes.length] = now;
   applyNewestState();
-  adaptRenderScale(now);
   sendPush();
   updateHover();
   updateArrows();
   follow();
   samplePlots(now);
-  controls.update();
-  const t0 = performance.now();
-  renderer.render(scene, camera);
-  debug.renderMs += performance.now() - t0;  // (the GPU's work may finish later)
-  debug.rendered += 1;
+  if (controls.update()) wake();  // (true while the camera moves, damping included)
+  const draw = redraw.due(now);
+  adaptRenderScale(now, draw);
+  if (draw) {
+    frameTimes[frameCount++ % frameTimes.length] = now;
+    const t0 = performance.now();
+    renderer.render(scene, camera);
+    debug.renderMs += performance.now() - t0;  // (the GPU's work may finish later)
+    debug.rendered += 1;
+  } else {
+    debug.skipped += 1;
+    pendingStampMs = null;  // a state that changed nothing drawn: no latency to a frame
+  }
   // Drawn: rigid-view may send the next states (it keeps at most four unacknowledged), one for
   // each received since the last frame, applied or replaced.
   for (; statesToAck > 0; --statesToAck)

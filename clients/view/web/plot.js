@@ -15,11 +15,16 @@ export class StripChart {
     this.start = 0;
     this.count = 0;
     this.received = 0;  // samples since the page opened (for tests)
+    // Whether the canvas shows older samples than these: draw() redraws only then (the page calls
+    // it every frame; samples come a few times a second, or none while the scene is paused).
+    this.changed = true;
+    this.drawn = 0;  // redraws (for tests)
   }
 
   clear() {
     this.start = 0;
     this.count = 0;
+    this.changed = true;
   }
 
   push(t, values) {
@@ -29,6 +34,7 @@ export class StripChart {
     if (this.count < this.capacity) ++this.count;
     else this.start = (this.start + 1) % this.capacity;
     ++this.received;
+    this.changed = true;
   }
 
   // The newest sample's values, or null.
@@ -44,6 +50,9 @@ export class StripChart {
   }
 
   draw() {
+    if (!this.changed) return;
+    this.changed = false;
+    ++this.drawn;
     const c = this.canvas, ctx = c.getContext('2d');
     const w = c.width, h = c.height, left = 44, top = 4, bottom = 14;
     ctx.clearRect(0, 0, w, h);
