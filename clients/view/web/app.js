@@ -36,9 +36,22 @@ let renderScale = renderScaleControl.scale;
 // controller decides nothing, as if the page were hidden, and a new scene keeps the held scale.
 let renderScaleHeld = false;
 // Draw on change (redraw.js): a frame renders only when something it shows changed, reported by
-// wake(); a paused scene under a still camera costs no rendering.
+// wake(); a paused scene under a still camera costs no rendering. Nor animation frames: after a
+// frame with nothing to draw the loop stops (frame), and starts again (ensureLoop) on a wake, on
+// any message from rigid-view (a state to apply and acknowledge, Stats for the plot) and for the
+// heartbeat; between them Chromium calls nothing of the page 60 times a second.
 const redraw = new Redraw();
-const wake = () => redraw.wake(performance.now());
+let looping = false;
+function ensureLoop() {
+  if (looping) return;
+  looping = true;
+  renderer.setAnimationLoop(frame);
+}
+const wake = () => {
+  redraw.wake(performance.now());
+  ensureLoop();
+};
+setInterval(ensureLoop, redraw.heartbeat / 2);
 // Any input on the page may change the picture (the camera, a hover, a checkbox, the body list):
 // the frames that follow are drawn. Capture phase, so that no handler can stop it.
 for (const type of ['pointerdown', 'pointermove', 'pointerup', 'wheel', 'keydown', 'keyup', 'input',
@@ -58,12 +71,13 @@ function useAntialias(on) {
   const old = renderer;
   renderer = makeRenderer(on);
   old.setAnimationLoop(null);
+  looping = false;
   old.domElement.replaceWith(renderer.domElement);
   controls.disconnect();
   controls.connect(renderer.domElement);
   old.dispose();
   resize();
-  renderer.setAnimationLoop(frame);
+  ensureLoop();
 }
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x1d1f24);
@@ -852,6 +866,7 @@ function connect() {
     setTimeout(connect, 1000);
   };
   socket.onmessage = (event) => {
+    ensureLoop();
     if (event.data instanceof ArrayBuffer) {
       debug.statesReceived += 1;
       if (newestState) debug.statesSkipped += 1;
@@ -1304,6 +1319,8 @@ const latencyParts = { toWorker: new Float64Array(4096), toMain: new Float64Arra
 let latencyCount = 0;
 debug.rendered = 0;
 debug.skipped = 0;  // frames not drawn: nothing changed (redraw.js)
+debug.looping = () => looping;  // whether the animation loop runs (it stops when idle)
+debug.unacknowledged = () => statesToAck;  // states received and not yet acknowledged
 // Redraws of the plots' canvases (they too draw only on change).
 debug.plotDraws = () => ({ drift: driftChart.drawn, lateness: latenessChart.drawn });
 debug.renderMs = 0;  // total time in renderer.render, and in applying states (bench/view)
@@ -1397,6 +1414,11 @@ function frame(now) {
     latencyParts.toFrame[k] = now - a.main;
     pendingStampMs = null;
   }
+  // Nothing drawn and nothing waiting: the loop stops until ensureLoop starts it again.
+  if (!draw && !newestState) {
+    renderer.setAnimationLoop(null);
+    looping = false;
+  }
 }
-renderer.setAnimationLoop(frame);
+ensureLoop();
 connect();
