@@ -1317,9 +1317,9 @@ const latencies = new Float64Array(4096);
 const latencyParts = { toWorker: new Float64Array(4096), toMain: new Float64Array(4096),
                        toFrame: new Float64Array(4096) };
 let latencyCount = 0;
-debug.rendered = 0;
-debug.skipped = 0;  // frames not drawn: nothing changed (redraw.js)
-debug.looping = () => looping;  // whether the animation loop runs (it stops when idle)
+// Frames drawn, and frames not drawn since nothing changed: redraw.js counts them.
+Object.defineProperty(debug, 'rendered', { get: () => redraw.drawn, enumerable: true });
+Object.defineProperty(debug, 'skipped', { get: () => redraw.skipped, enumerable: true });
 debug.unacknowledged = () => statesToAck;  // states received and not yet acknowledged
 // Redraws of the plots' canvases (they too draw only on change).
 debug.plotDraws = () => ({ drift: driftChart.drawn, lateness: latenessChart.drawn });
@@ -1395,9 +1395,7 @@ function frame(now) {
     const t0 = performance.now();
     renderer.render(scene, camera);
     debug.renderMs += performance.now() - t0;  // (the GPU's work may finish later)
-    debug.rendered += 1;
   } else {
-    debug.skipped += 1;
     pendingStampMs = null;  // a state that changed nothing drawn: no latency to a frame
   }
   // Drawn: rigid-view may send the next states (it keeps at most four unacknowledged), one for
@@ -1414,8 +1412,9 @@ function frame(now) {
     latencyParts.toFrame[k] = now - a.main;
     pendingStampMs = null;
   }
-  // Nothing drawn and nothing waiting: the loop stops until ensureLoop starts it again.
-  if (!draw && !newestState) {
+  // Nothing drawn (and no state waits: messages come between frames, and this one applied the
+  // newest): the loop stops until ensureLoop starts it again.
+  if (!draw) {
     renderer.setAnimationLoop(null);
     looping = false;
   }
