@@ -250,6 +250,10 @@ try {
   // apart from the solid box: 5 meshes for 6 bodies.
   const inst = await rv('window.rigidView.instances()');
   if (inst.count !== 6 || inst.meshes !== 5) throw new Error(`instances: ${JSON.stringify(inst)}`);
+  // WebGL on the CPU here (SwiftShader): the page knows it and draws even a small scene without
+  // multisampling, which a software renderer pays per pixel (bench/view/README.md).
+  const gl = await rv('({ software: window.rigidView.softwareGL, antialias: window.rigidView.antialias() })');
+  if (gl.software !== true || gl.antialias !== false) throw new Error(`in SwiftShader the page has ${JSON.stringify(gl)} (expected software and no multisampling)`);
   // The frame rate is bounded (at most 60 Hz) although rigidd publishes at 200 Hz. (Only states
   // flowing is asked from below: the page draws as fast as the machine lets it, and it acknowledges
   // what it drew; how fast is bench/view's question, not a test's.)

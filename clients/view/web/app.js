@@ -65,6 +65,17 @@ function makeRenderer(antialias) {
 }
 let renderer = makeRenderer(true);
 $('view').appendChild(renderer.domElement);
+// Whether WebGL runs on the CPU: SwiftShader (what Chromium uses on a machine without a usable GPU,
+// and in headless tests) or Mesa's llvmpipe / softpipe. There multisampling is not worth its cost:
+// a software renderer pays it per pixel on the CPUs that rigidd runs on. Measured in headless
+// Chromium on a 2-core machine (bench/view/README.md), the default scene at render scale 0.5:
+// Chromium 142-154% of a CPU with 4x MSAA, 101-104% without.
+const softwareGL = (() => {
+  const gl = renderer.getContext();
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+  return /swiftshader|llvmpipe|softpipe/i.test(name);
+})();
 // Multisampling is fixed when a WebGL context is made: a new renderer (and canvas) when it changes.
 function useAntialias(on) {
   if (renderer.getContextAttributes().antialias === on) return;
@@ -192,6 +203,8 @@ const debug = {
   },
 };
 window.rigidView = debug;
+debug.softwareGL = softwareGL;
+debug.antialias = () => renderer.getContextAttributes().antialias;
 
 const palette = [0x4fc3f7, 0xffb74d, 0x81c784, 0xe57373, 0xba68c8, 0xfff176, 0x90a4ae];
 
@@ -562,7 +575,7 @@ function setScene(msg) {
   const many = msg.bodies.length > kManyBodies;
   renderScaleControl.reset();  // a new scene: its own frame rate decides
   if (!renderScaleHeld) setRenderScale(renderScaleControl.scale);
-  useAntialias(!many);
+  useAntialias(!many && !softwareGL);
   if (many) {
     setImpostorScene(msg, groupsOf(msg));
     return;
