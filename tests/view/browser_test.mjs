@@ -210,6 +210,36 @@ async function manyBodies() {
   console.log(`large scene: probe silhouette at render scale ${await rv('window.rigidView.renderScale()')}: ${silhouette.probe} points on the probe, ${silhouette.empty} around it, ${silhouette.wrong.length} wrong`);
   if (silhouette.probe < 20 || silhouette.empty < 20) throw new Error(`too few points checked around the probe: ${JSON.stringify(silhouette)}`);
   if (silhouette.wrong.length) throw new Error(`the probe's drawn silhouette differs from its box: ${JSON.stringify(silhouette.wrong.slice(0, 10))}`);
+  // The quad is large enough: where the grid is coarsest, at the silhouette's corners (what a quad
+  // too small cuts first), the pixels 4 CSS px inside each corner of the box as drawn (its 8
+  // vertices, from the drawn pose, projected), towards the centre, are the probe's where the CPU
+  // ray cast says so (also 1 px around: no edge within reach).
+  const corners = await page.evaluate(() => {
+    const pose = window.rigidView.renderedPose('probe');
+    const [w, x, y, z] = pose.orientation;
+    const rotate = ([vx, vy, vz]) => {  // v + 2 q x (q x v + w v)
+      const cx = y * vz - z * vy + w * vx, cy = z * vx - x * vz + w * vy, cz = x * vy - y * vx + w * vz;
+      return [vx + 2 * (y * cz - z * cy), vy + 2 * (z * cx - x * cz), vz + 2 * (x * cy - y * cx)];
+    };
+    const c = window.rigidView.screenOf('probe');
+    const points = [];
+    for (const sx of [-1, 1]) for (const sy of [-1, 1]) for (const sz of [-1, 1]) {
+      const v = window.rigidView.screenOf('probe', rotate([0.2 * sx, 0.15 * sy, 0.15 * sz]));
+      const dx = c.x - v.x, dy = c.y - v.y, len = Math.hypot(dx, dy);
+      const p = { x: v.x + (4 * dx) / len, y: v.y + (4 * dy) / len };
+      const around = [[0, 0], [1, 0], [-1, 0], [0, 1], [0, -1]];
+      if (around.every(([ax, ay]) => window.rigidView.bodyAt(p.x + ax, p.y + ay) === 'probe')) points.push(p);
+    }
+    return points;
+  });
+  const cornerColours = await pixels(corners.map((p) => [p.x, p.y]));
+  const cutOff = corners.filter((p, k) => {
+    const [pr, pg, pb] = cornerColours[k];
+    return !(pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb);
+  });
+  console.log(`large scene: ${corners.length} points inside the probe's drawn corners, ${cutOff.length} not drawn`);
+  if (corners.length < 4) throw new Error(`too few points inside the probe's corners: ${JSON.stringify(corners)}`);
+  if (cutOff.length) throw new Error(`the probe's impostor cuts off its corners at ${JSON.stringify(cutOff)}`);
   await rv('window.rigidView.holdRenderScale(null)');
   // Picking without instanced meshes (the bodies' own shapes from the poses): hover the probe.
   await page.mouse.move(at.x, at.y);
