@@ -198,13 +198,13 @@ async function manyBodies() {
     return points;
   }, [at.x, at.y]);
   const colours = await pixels(grid.map((p) => [p.x, p.y]));
+  // The probe's light blue, lit or in shade (its red more than a seventh of its blue; the world's
+  // z axis, light blue too, has none).
+  const probeColour = ([pr, pg, pb]) => pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb;
   const silhouette = { probe: 0, empty: 0, wrong: [] };
   grid.forEach((p, k) => {
     const [pr, pg, pb] = colours[k];
-    // Light blue, lit or in shade (its red more than a seventh of its blue; the world's z
-    // axis, light blue too, has none).
-    const probeColour = pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb;
-    if (probeColour !== (p.at === 'probe')) silhouette.wrong.push({ ...p, pixel: [pr, pg, pb] });
+    if (probeColour(colours[k]) !== (p.at === 'probe')) silhouette.wrong.push({ ...p, pixel: [pr, pg, pb] });
     silhouette[p.at === 'probe' ? 'probe' : 'empty'] += 1;
   });
   console.log(`large scene: probe silhouette at render scale ${await rv('window.rigidView.renderScale()')}: ${silhouette.probe} points on the probe, ${silhouette.empty} around it, ${silhouette.wrong.length} wrong`);
@@ -233,10 +233,7 @@ async function manyBodies() {
     return points;
   });
   const cornerColours = await pixels(corners.map((p) => [p.x, p.y]));
-  const cutOff = corners.filter((p, k) => {
-    const [pr, pg, pb] = cornerColours[k];
-    return !(pb > pr + 25 && pg > pr + 10 && pr > 0.15 * pb);
-  });
+  const cutOff = corners.filter((p, k) => !probeColour(cornerColours[k]));
   console.log(`large scene: ${corners.length} points inside the probe's drawn corners, ${cutOff.length} not drawn`);
   if (corners.length < 4) throw new Error(`too few points inside the probe's corners: ${JSON.stringify(corners)}`);
   if (cutOff.length) throw new Error(`the probe's impostor cuts off its corners at ${JSON.stringify(cutOff)}`);
