@@ -214,17 +214,15 @@ async function manyBodies() {
   // too small cuts first), the pixels 4 CSS px inside each corner of the box as drawn (its 8
   // vertices, from the drawn pose, projected), towards the centre, are the probe's where the CPU
   // ray cast says so (also 1 px around: no edge within reach).
-  const corners = await page.evaluate(() => {
-    const pose = window.rigidView.renderedPose('probe');
-    const [w, x, y, z] = pose.orientation;
-    const rotate = ([vx, vy, vz]) => {  // v + 2 q x (q x v + w v)
-      const cx = y * vz - z * vy + w * vx, cy = z * vx - x * vz + w * vy, cz = x * vy - y * vx + w * vz;
-      return [vx + 2 * (y * cz - z * cy), vy + 2 * (z * cx - x * cz), vz + 2 * (x * cy - y * cx)];
-    };
+  const corners = await page.evaluate(async () => {
+    const THREE = await import('three');  // (the page's import map)
+    const [w, x, y, z] = window.rigidView.renderedPose('probe').orientation;
+    const q_WB = new THREE.Quaternion(x, y, z, w);
     const c = window.rigidView.screenOf('probe');
     const points = [];
     for (const sx of [-1, 1]) for (const sy of [-1, 1]) for (const sz of [-1, 1]) {
-      const v = window.rigidView.screenOf('probe', rotate([0.2 * sx, 0.15 * sy, 0.15 * sz]));
+      const p_BoC_W = new THREE.Vector3(0.2 * sx, 0.15 * sy, 0.15 * sz).applyQuaternion(q_WB);
+      const v = window.rigidView.screenOf('probe', p_BoC_W.toArray());
       const dx = c.x - v.x, dy = c.y - v.y, len = Math.hypot(dx, dy);
       const p = { x: v.x + (4 * dx) / len, y: v.y + (4 * dy) / len };
       const around = [[0, 0], [1, 0], [-1, 0], [0, 1], [0, -1]];

@@ -47,6 +47,10 @@ function ensureLoop() {
   looping = true;
   renderer.setAnimationLoop(frame);
 }
+function stopLoop() {
+  renderer.setAnimationLoop(null);
+  looping = false;
+}
 const wake = () => {
   redraw.wake(performance.now());
   ensureLoop();
@@ -79,10 +83,9 @@ const softwareGL = (() => {
 // Multisampling is fixed when a WebGL context is made: a new renderer (and canvas) when it changes.
 function useAntialias(on) {
   if (renderer.getContextAttributes().antialias === on) return;
+  stopLoop();
   const old = renderer;
   renderer = makeRenderer(on);
-  old.setAnimationLoop(null);
-  looping = false;
   old.domElement.replaceWith(renderer.domElement);
   controls.disconnect();
   controls.connect(renderer.domElement);
