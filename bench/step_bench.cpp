@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include <string>
+#include <vector>
 
 #include "physics/free_rotor.hpp"
 #include "physics/world.hpp"
@@ -79,6 +80,22 @@ void BM_Step(benchmark::State& state, Case c, std::string integrator) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// Cost per body of World::write_states, the daemon's state message and Python's arrays: every
+// body's pose and velocities in the world frame, written in body-id order.
+void BM_WriteStates(benchmark::State& state, Case c) {
+  const int n = static_cast<int>(state.range(0));
+  World w(make_world(c, n, "hybrid4"));
+  w.step(2);
+  std::vector<double> p(3 * n), q(4 * n), v(3 * n), o(3 * n);
+  for (auto _ : state) {
+    w.write_states({p.data(), q.data(), v.data(), o.data()});
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_body"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * n * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // One torque-free long step of the exact rotor with its plan cached (a free body at a long dt):
 // psi in closed form (the default) or by Gauss-Legendre panels (the fallback), side by side.
 void BM_RotorLongStep(benchmark::State& state, Vec3 w0, double h, bool closed) {
@@ -122,6 +139,10 @@ void register_all() {
   const char* integrators[] = {"hybrid4", "exact_rotor4",  "exact_rotor", "rk4",
                                "dlm",     "implicit_gyro", "games103"};
   for (const auto& [c, cname] : cases) {
+    benchmark::RegisterBenchmark((std::string("write_states/") + cname).c_str(), BM_WriteStates, c)
+        ->Arg(1000)
+        ->Arg(100000)
+        ->Unit(benchmark::kMicrosecond);
     for (const char* integ : integrators) {
       benchmark::RegisterBenchmark((std::string(cname) + "/" + integ).c_str(), BM_Step, c,
                                    std::string(integ))

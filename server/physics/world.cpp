@@ -987,7 +987,7 @@ BodyState World::state(int id) const {
     s.w_WB.setZero();
   } else {
     s.q_WB = m.q * impl_->rot_BP(id).conjugate();
-    s.w_WB = m.q * impl_->omega_P(id);
+    s.w_WB = rotate(m.q, impl_->omega_P(id));
   }
   return s;
 }
@@ -1014,12 +1014,12 @@ void World::write_states(const StateRows& rows) const {
   const IsoGroup& iso = w.model.iso;
   for (int k = 0; k < iso.size(); ++k) {
     const Motion& m = iso.motion[k];
-    put(iso.id[k], m, m.q * Quat::Identity().conjugate(), m.q * iso.rot(k).omega(m.spin));
+    put(iso.id[k], m, m.q * Quat::Identity().conjugate(), rotate(m.q, iso.rot(k).omega(m.spin)));
   }
   const auto rotated = [&](const auto& g) {
     for (int k = 0; k < g.size(); ++k) {
       const Motion& m = g.motion[k];
-      put(g.id[k], m, m.q * g.q_BP[k].conjugate(), m.q * g.rot(k).omega(m.spin));
+      put(g.id[k], m, m.q * g.q_BP[k].conjugate(), rotate(m.q, g.rot(k).omega(m.spin)));
     }
   };
   rotated(w.model.axi);

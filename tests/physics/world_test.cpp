@@ -6,9 +6,11 @@
 
 #include <atomic>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+#include <random>
 
 #include "allocation_counter.hpp"
 #include "test_util.hpp"
@@ -176,6 +178,24 @@ TEST(WorldModel, StateRoundTripsThroughThePrincipalFrame) {
     const Mat3 R = in.q_WB.toRotationMatrix();
     EXPECT_LT((w.angular_momentum_W(i) - R * w.body_spec(i).I_B * R.transpose() * in.w_WB).norm(),
               1e-14);
+  }
+}
+
+// physics::rotate is Eigen's q * v to the last bit (the published w_WB did not change when
+// write_states stopped calling Eigen's out-of-line rotation), over unit quaternions and vectors
+// spread over many magnitudes and signs.
+TEST(WorldModel, RotateIsEigensQuaternionTimesVectorBitForBit) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-8.0, 8.0);
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  for (int i = 0; i < 20000; ++i) {
+    const Quat q = Quat(u(rng), u(rng), u(rng), u(rng)).normalized();
+    const Vec3 v = Vec3(u(rng), u(rng), u(rng))
+                       .cwiseProduct(Vec3(std::pow(10.0, e(rng)), std::pow(10.0, e(rng)),
+                                          std::pow(10.0, e(rng))));
+    const Vec3 a = physics::rotate(q, v), b = q * v;
+    for (int j = 0; j < 3; ++j)
+      ASSERT_EQ(bits(a[j]), bits(b[j])) << "q " << q.coeffs().transpose() << " v " << v.transpose();
   }
 }
 
