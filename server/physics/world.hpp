@@ -124,6 +124,10 @@ class World {
   BodyState state(int id) const;
   // Every body's state(id), bit for bit, written into rows: one pass over each model's entries
   // instead of a lookup per body (the daemon's state message and Python's arrays read this).
+  // A world of at least 2 kBodiesPerWriteChunk bodies is written on the step's threads
+  // (set_threads) as well, in chunks of about that many: like step(), it must not run beside
+  // another step() or write_states() of the same World.
+  static constexpr int kBodiesPerWriteChunk = 8192;
   void write_states(const StateRows& rows) const;
   // Overwrites a body's state (kinematic constraints such as frozen axes are re-applied; a frozen
   // body is moved but stays frozen). Throws std::invalid_argument for a non-finite state.

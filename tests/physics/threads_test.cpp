@@ -6,8 +6,10 @@
 
 #include <array>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -105,6 +107,38 @@ TEST(WorldThreads, StatesAreBitIdenticalForAnyThreadCount) {
       const std::uint64_t h = hash_of(w);
       if (first == 0) first = h;
       EXPECT_EQ(h, first) << "'" << integrator << "' with " << threads << " threads";
+    }
+  }
+}
+
+// write_states on the step's threads (a world of several kBodiesPerWriteChunk chunks): every
+// row is state(id)'s, bit for bit, and every row is written, for any thread count; and writing
+// allocates nothing.
+TEST(WorldThreads, WriteStatesOnThreadsIsStateOfEveryBody) {
+  const int n = 3 * World::kBodiesPerWriteChunk + 101;
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  for (int threads : {1, 2, 3, 8}) {
+    World w(crowd(n, "", threads));
+    drive(w, 12);  // loads start and stop: the models' entries are out of id order
+    const auto k = static_cast<std::size_t>(n);
+    // NaN-filled, so that a row left unwritten fails the comparison below.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> p(3 * k, nan), q(4 * k, nan), v(3 * k, nan), o(3 * k, nan);
+    const long before = allocation_count();
+    w.write_states({p.data(), q.data(), v.data(), o.data()});
+    EXPECT_EQ(allocation_count(), before) << threads << " threads";
+    for (int i = 0; i < n; ++i) {
+      const BodyState s = w.state(i);
+      const auto r = static_cast<std::size_t>(i);
+      const std::array<double, 13> want{
+          s.p_WBo.x(), s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(),
+          s.v_WBo.x(), s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z()};
+      const std::array<double, 13> got{
+          p[3 * r], p[3 * r + 1], p[3 * r + 2], q[4 * r], q[4 * r + 1], q[4 * r + 2], q[4 * r + 3],
+          v[3 * r], v[3 * r + 1], v[3 * r + 2], o[3 * r], o[3 * r + 1], o[3 * r + 2]};
+      for (std::size_t j = 0; j < want.size(); ++j)
+        ASSERT_EQ(bits(got[j]), bits(want[j]))
+            << "body " << i << " value " << j << ", " << threads << " threads";
     }
   }
 }
