@@ -6,6 +6,8 @@
 // the wrench table and the state frame, which rigidd and rigid-sim --replay share.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -25,11 +27,11 @@ using physics::WorldSpec;
 constexpr int kBodies = 8 * physics::World::kMinBodiesPerThread + 101;
 constexpr double kTickDt = 1e-3;
 
-WorldSpec scene(int threads) {
+WorldSpec scene(int threads, int bodies = kBodies) {
   WorldSpec ws;
   ws.dt = kTickDt;
   ws.threads = threads;
-  for (int i = 0; i < kBodies; ++i) {
+  for (int i = 0; i < bodies; ++i) {
     BodySpec b;
     b.name = "b" + std::to_string(i);
     const double e = 1e-3 * (i % 89);
@@ -54,18 +56,18 @@ WorldSpec scene(int threads) {
 
 // Runs `ticks` ticks; every 5 ticks a new round of wrenches (a third of the bodies, each wrench
 // with its own ttl, so that some expire between rounds). The state hash after every tick, folded.
-std::uint64_t run(int threads, int ticks) {
-  DrivenWorld driven(scene(threads), kTickDt, 1, 4096);
+std::uint64_t run(int threads, int ticks, int bodies = kBodies) {
+  DrivenWorld driven(scene(threads, bodies), kTickDt, 1, std::max<std::size_t>(4096, bodies));
   EXPECT_EQ(driven.world().threads(), threads);
   rigid::StateFrame frame;
   shape_state_frame(driven.world(), frame);
   std::uint64_t folded = 0;
   for (int t = 0; t < ticks; ++t) {
     if (t % 5 == 0) {
-      for (int body = t % 3; body < kBodies; body += 3) {
+      for (int body = t % 3; body < bodies; body += 3) {
         Wrench w;
         w.source = 1;
-        w.seq = t * kBodies + body;
+        w.seq = t * bodies + body;
         w.key = 0;
         w.body = body;
         w.force = {0.5 * (body % 5), -1.0, 0.25 * (t % 4)};
@@ -102,6 +104,18 @@ TEST(DrivenWorldThreads, PublishedStatesAreBitIdenticalFor1To8Threads) {
   fill_state_frame(a.world(), 1, a.world().time(), fa);
   fill_state_frame(b.world(), 1, b.world().time(), fb);
   EXPECT_NE(state_hash(fa), state_hash(fb));
+}
+
+// A world large enough that its state frames are written on the world's threads too
+// (World::write_states, two chunks of kBodiesPerWriteChunk and more): the same frames for 1, 2
+// and 3 threads. Here rather than only in tests/physics because this directory also runs under
+// ThreadSanitizer.
+TEST(DrivenWorldThreads, LargeWorldsStateFramesAreBitIdenticalFor1To3Threads) {
+  constexpr int kLarge = 2 * physics::World::kBodiesPerWriteChunk + 57;
+  const std::uint64_t one = run(1, 6, kLarge);
+  for (int threads : {2, 3}) {
+    EXPECT_EQ(run(threads, 6, kLarge), one) << threads << " threads";
+  }
 }
 
 }  // namespace
