@@ -74,13 +74,16 @@ void drive(World& w, int steps) {
   }
 }
 
+// A body's state as the rows of World::write_states hold it: p_WBo, q_WB (w first), v_WBo, w_WB.
+std::array<double, 13> values(const BodyState& s) {
+  return {s.p_WBo.x(), s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(),
+          s.v_WBo.x(), s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z()};
+}
+
 std::uint64_t hash_of(const World& w) {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over every body's state bytes
   for (int i = 0; i < w.body_count(); ++i) {
-    const BodyState s = w.state(i);
-    for (double v :
-         {s.p_WBo.x(), s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(),
-          s.v_WBo.x(), s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z()}) {
+    for (double v : values(w.state(i))) {
       std::uint64_t bits;
       std::memcpy(&bits, &v, sizeof bits);
       h = (h ^ bits) * 1099511628211ull;
@@ -128,11 +131,8 @@ TEST(WorldThreads, WriteStatesOnThreadsIsStateOfEveryBody) {
     w.write_states({p.data(), q.data(), v.data(), o.data()});
     EXPECT_EQ(allocation_count(), before) << threads << " threads";
     for (int i = 0; i < n; ++i) {
-      const BodyState s = w.state(i);
       const auto r = static_cast<std::size_t>(i);
-      const std::array<double, 13> want{
-          s.p_WBo.x(), s.p_WBo.y(), s.p_WBo.z(), s.q_WB.w(), s.q_WB.x(), s.q_WB.y(), s.q_WB.z(),
-          s.v_WBo.x(), s.v_WBo.y(), s.v_WBo.z(), s.w_WB.x(), s.w_WB.y(), s.w_WB.z()};
+      const std::array<double, 13> want = values(w.state(i));
       const std::array<double, 13> got{
           p[3 * r], p[3 * r + 1], p[3 * r + 2], q[4 * r], q[4 * r + 1], q[4 * r + 2], q[4 * r + 3],
           v[3 * r], v[3 * r + 1], v[3 * r + 2], o[3 * r], o[3 * r + 1], o[3 * r + 2]};
