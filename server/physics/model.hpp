@@ -232,9 +232,10 @@ struct AxiGroup : Group {
   Shared<DiagRot> rot;
   std::vector<AxisymPlan> plan;
   std::vector<std::uint8_t> plan_ok;
-  // Cold, read only at the API's edges: the rotation from P to B. Kept per entry (it moves with
-  // the body when the runs regroup) and only by the models whose P is not B.
-  std::vector<Quat> q_BP;
+  // Cold, read only at the API's edges and by write_states: the rotation from P to B, shared
+  // (bodies with the same inertia matrix have the same one: a 4 B index a body instead of 32),
+  // and only by the models whose P is not B.
+  Shared<Quat> q_BP;
 };
 
 struct GenGroup : Group {
@@ -250,7 +251,7 @@ struct GenGroup : Group {
   std::vector<std::uint8_t> plan_ok;
   // The last step's end-of-step frame quaternion, the next step's start: see advance_rotor.
   std::vector<Quat> axis;
-  std::vector<Quat> q_BP;  // as AxiGroup::q_BP
+  Shared<Quat> q_BP;  // as AxiGroup::q_BP
 };
 
 // A composition of a symmetric second-order step into a fourth-order one: stage sizes c_i h.

@@ -15,15 +15,15 @@
 namespace rigid::physics::detail {
 
 // Eight plans' fields as the kernel reads them, component-major: RotorPlan's case as a lane mask
-// (-1: case b), its phase constants and amplitudes, and the psi integral's quadrature; node[i] is
-// -1 where the plan has more than i nodes. k2 is RotorPlan::m.
+// (-1: case b), its phase constants and amplitudes, and the psi integral's quadrature: n[l]
+// nodes in lane l (the kernel steps node i in the lanes where n > i). k2 is RotorPlan::m.
 struct alignas(64) RotorPlanLanes {
   static constexpr int kMax = 8;
   static constexpr int kNodes = 4;  // RotorPlan's quadrature nodes at most
   using L = double[kMax];
   std::int64_t case_b[kMax];
   L s, ia, ib, cn_bias, k2, mc, cG, mS2, C, D, S, mSC, a, b, c, lin, abG2, G;
-  std::int64_t node[kNodes][kMax];
+  std::int32_t n[kMax];
   L w[kNodes], Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
 

@@ -91,8 +91,11 @@ void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off) {
   // The psi integral's nodes by the addition theorem, summed as one fraction.
   V top = splat(0.0), bottom = splat(1.0);
   const V sc0 = s0 * c0, ss0 = s0 * s0;
+  Mask nodes;
+  for (int l = 0; l < W; ++l)
+    nodes[l] = p.n[off + l];
   for (int i = 0; i < RotorPlanLanes::kNodes; ++i) {
-    const Mask on = load_mask(p.node[i] + off);
+    const Mask on = nodes > i;
     if (!any(on)) break;
     const V num = d0 * load(p.Dn[i] + off) - load(p.mSCn[i] + off) * sc0;
     const V den = (1.0 - load(p.mS2n[i] + off) * ss0) + cG * num;

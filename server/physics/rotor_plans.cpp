@@ -1,10 +1,13 @@
 #include "physics/rotor_plans.hpp"
 
+#include <limits>
 #include <utility>
 
 namespace rigid::physics::detail {
 
 static_assert(RotorPlanLanes::kNodes == sizeof(RotorPlan::w) / sizeof(double));
+// A long step's eight constants fit in the slots of w and Dn.
+static_assert(2 * RotorPlanLanes::kNodes >= 8);
 
 void RotorPlans::push_back() {
   if (size_ % kBlock == 0) blocks_.emplace_back();
@@ -12,10 +15,22 @@ void RotorPlans::push_back() {
   set(size_ - 1, RotorPlan{});
 }
 
+namespace {
+// A long step's constants, where a short step keeps its nodes: w[0..3] and Dn[0..3] of its lane.
+enum LongSlot { kX, kQ, kIsr, kSq, kQm3, kK, kJc, kClosed };
+double& long_slot(RotorPlanLanes& L, int k, int l) {
+  return k < 4 ? L.w[k][l] : L.Dn[k - 4][l];
+}
+double long_slot(const RotorPlanLanes& L, int k, int l) {
+  return k < 4 ? L.w[k][l] : L.Dn[k - 4][l];
+}
+}  // namespace
+
 RotorPlan RotorPlans::get(int i) const {
   const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
   const RotorPlanLanes& L = b.lanes;
   const int l = i % kBlock;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   RotorPlan p;
   p.still = b.still[l] != 0;
   p.case_b = L.case_b[l] != 0;
@@ -25,7 +40,7 @@ RotorPlan RotorPlans::get(int i) const {
   p.c = L.c[l];
   p.ia = L.ia[l];
   p.ib = L.ib[l];
-  p.ic = b.ic[l];
+  p.ic = kNaN;
   p.cn_bias = L.cn_bias[l];
   p.m = L.k2[l];
   p.mc = L.mc[l];
@@ -38,23 +53,28 @@ RotorPlan RotorPlans::get(int i) const {
   p.D = L.D[l];
   p.mS2 = L.mS2[l];
   p.mSC = L.mSC[l];
-  p.Cm1 = b.Cm1[l];
-  p.Dm1 = b.Dm1[l];
-  p.X = b.X[l];
-  p.n = b.n[l];
-  for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
-    p.w[k] = L.w[k][l];
-    p.Dn[k] = L.Dn[k][l];
-    p.mS2n[k] = L.mS2n[k][l];
-    p.mSCn[k] = L.mSCn[k][l];
+  p.Cm1 = kNaN;
+  p.Dm1 = kNaN;
+  p.n = L.n[l];
+  if (p.n > 0) {
+    for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
+      p.w[k] = L.w[k][l];
+      p.Dn[k] = L.Dn[k][l];
+      p.mS2n[k] = L.mS2n[k][l];
+      p.mSCn[k] = L.mSCn[k][l];
+    }
+    p.X = p.q = p.isr = p.sq = p.qm3 = p.K = p.Jc = kNaN;
+    p.closed = false;
+  } else {
+    p.X = long_slot(L, kX, l);
+    p.q = long_slot(L, kQ, l);
+    p.isr = long_slot(L, kIsr, l);
+    p.sq = long_slot(L, kSq, l);
+    p.qm3 = long_slot(L, kQm3, l);
+    p.K = long_slot(L, kK, l);
+    p.Jc = long_slot(L, kJc, l);
+    p.closed = long_slot(L, kClosed, l) != 0.0;
   }
-  p.closed = b.closed[l] != 0;
-  p.q = b.q[l];
-  p.isr = b.isr[l];
-  p.sq = b.sq[l];
-  p.qm3 = b.qm3[l];
-  p.K = b.K[l];
-  p.Jc = b.Jc[l];
   return p;
 }
 
@@ -70,7 +90,6 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.c[l] = p.c;
   L.ia[l] = p.ia;
   L.ib[l] = p.ib;
-  b.ic[l] = p.ic;
   L.cn_bias[l] = p.cn_bias;
   L.k2[l] = p.m;
   L.mc[l] = p.mc;
@@ -83,24 +102,23 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.D[l] = p.D;
   L.mS2[l] = p.mS2;
   L.mSC[l] = p.mSC;
-  b.Cm1[l] = p.Cm1;
-  b.Dm1[l] = p.Dm1;
-  b.X[l] = p.X;
-  b.n[l] = p.n;
+  L.n[l] = p.n;
   for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
-    L.node[k][l] = k < p.n ? -1 : 0;
     L.w[k][l] = p.w[k];
     L.Dn[k][l] = p.Dn[k];
     L.mS2n[k][l] = p.mS2n[k];
     L.mSCn[k][l] = p.mSCn[k];
   }
-  b.closed[l] = p.closed ? 1 : 0;
-  b.q[l] = p.q;
-  b.isr[l] = p.isr;
-  b.sq[l] = p.sq;
-  b.qm3[l] = p.qm3;
-  b.K[l] = p.K;
-  b.Jc[l] = p.Jc;
+  if (p.n == 0) {
+    long_slot(L, kX, l) = p.X;
+    long_slot(L, kQ, l) = p.q;
+    long_slot(L, kIsr, l) = p.isr;
+    long_slot(L, kSq, l) = p.sq;
+    long_slot(L, kQm3, l) = p.qm3;
+    long_slot(L, kK, l) = p.K;
+    long_slot(L, kJc, l) = p.Jc;
+    long_slot(L, kClosed, l) = p.closed ? 1.0 : 0.0;
+  }
 }
 
 void RotorPlans::swap(int i, int j) {

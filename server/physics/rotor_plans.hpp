@@ -3,10 +3,15 @@
 // (structure of arrays). A block of eight quiet bodies whose plans are ready is stepped straight
 // from its block (rotor_lanes.hpp); before, every step copied ~45 fields of each body's plan
 // into a batch one lane at a time, which cost the quiet general body about a quarter of its step
-// (perf record on step_bench's racket case: the copy 23%, the kernel 42%). The fields only the
-// scalar code reads (long steps, the flags) sit in the same block. get and set copy one entry's
-// plan out and in, exactly: the scalar code, which makes plans and steps the rest, sees the same
-// RotorPlan it stored.
+// (perf record on step_bench's racket case: the copy 23%, the kernel 42%).
+//
+// A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
+// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 288 B an
+// entry, where the whole RotorPlan took 398 (bench/memory_bench.cpp; issue 13's budget of 500 B
+// a body). What RotorUpdate::kIncrement alone reads (ic, Cm1, Dm1) is not kept: get gives NaN
+// there. A long step (no quadrature nodes) keeps its closed-form constants (X, q, isr, sq, qm3,
+// K, Jc, closed) in the node slots it does not use; a short step reads none of them, and get
+// gives NaN for them. advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
 #pragma once
 
 #include <cstddef>
@@ -24,6 +29,7 @@ class RotorPlans {
   int size() const { return size_; }
   // Appends a default RotorPlan.
   void push_back();
+  // Entry i's plan as RotorUpdate::kPinned reads it (NaN in the fields not kept, see above).
   RotorPlan get(int i) const;
   void set(int i, const RotorPlan& p);
   void swap(int i, int j);
@@ -32,7 +38,7 @@ class RotorPlans {
   bool lane_ready(int i) const {
     const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
     const int l = i % kBlock;
-    return b.still[l] == 0 && b.n[l] > 0;
+    return b.still[l] == 0 && b.lanes.n[l] > 0;
   }
   // Asks the CPU to bring block k's kernel fields into the cache (a hint; nothing if k is past
   // the end): the kernel reads them in its own order, not the memory's, which the hardware
@@ -42,7 +48,7 @@ class RotorPlans {
     const char* p = reinterpret_cast<const char*>(&blocks_[static_cast<std::size_t>(block)]);
     for (std::size_t k = 0; k < sizeof(RotorPlanLanes); k += 64)
       __builtin_prefetch(p + k);
-    __builtin_prefetch(p + offsetof(Block, n));
+    __builtin_prefetch(p + offsetof(Block, still));
   }
   const RotorPlanLanes& lanes(int block) const {
     return blocks_[static_cast<std::size_t>(block)].lanes;
@@ -50,12 +56,8 @@ class RotorPlans {
 
  private:
   struct Block {
-    RotorPlanLanes lanes;
-    // What only the scalar code reads.
-    double ic[kBlock], Cm1[kBlock], Dm1[kBlock], X[kBlock];
-    double q[kBlock], isr[kBlock], sq[kBlock], qm3[kBlock], K[kBlock], Jc[kBlock];
-    std::int32_t n[kBlock];
-    std::uint8_t still[kBlock], closed[kBlock];
+    RotorPlanLanes lanes;  // a long step's constants in the node slots (see above)
+    std::uint8_t still[kBlock];
   };
   std::vector<Block> blocks_;
   int size_ = 0;

@@ -118,9 +118,14 @@ struct World::Impl {
   // The guard (see World::frozen_bodies): the pose of each body's last state that passed the check
   // (a frozen body is put back there at rest, so its velocities need no copy), and who is frozen
   // (with the index of its translational parameters before the freeze: frozen_lin).
+  // Unaligned doubles: 56 B, where an aligned Quat and a Vec3 take 64.
   struct Pose {
-    Quat q = Quat::Identity();
-    Vec3 x = Vec3::Zero();
+    double q[4] = {0.0, 0.0, 0.0, 1.0};  // x, y, z, w as Quat::coeffs()
+    double x[3] = {0.0, 0.0, 0.0};
+    Pose() = default;
+    Pose(const Quat& r, const Vec3& p) : q{r.x(), r.y(), r.z(), r.w()}, x{p.x(), p.y(), p.z()} {}
+    Quat quat() const { return Quat(q[3], q[0], q[1], q[2]); }
+    Vec3 pos() const { return Vec3(x[0], x[1], x[2]); }
   };
   std::vector<Pose> last_good;
   std::vector<std::uint8_t> frozen;
@@ -156,8 +161,8 @@ struct World::Impl {
   // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
   Quat rot_BP(int id) const {
     const Slot& s = slot[id];
-    if (s.model == BodyModel::kAxisymmetric) return model.axi.q_BP[s.index];
-    if (s.model == BodyModel::kGeneral) return model.gen.q_BP[s.index];
+    if (s.model == BodyModel::kAxisymmetric) return model.axi.q_BP(s.index);
+    if (s.model == BodyModel::kGeneral) return model.gen.q_BP(s.index);
     return Quat::Identity();
   }
   // A copied vector keeps its elements but not its capacity: what stepping relies on having
@@ -239,6 +244,9 @@ Key key_of(const Linear& l) {
 }
 Key key_of(const IsoRot& r) {
   return key_of({r.inv_I, r.k, r.axis.x(), r.axis.y(), r.axis.z(), r.hinge});
+}
+Key key_of(const Quat& q) {
+  return key_of({q.w(), q.x(), q.y(), q.z()});
 }
 Key key_of(const DiagRot& r) {
   return key_of({r.I.x(), r.I.y(), r.I.z(), r.inv_I.x(), r.inv_I.y(), r.inv_I.z(), r.k});
@@ -368,6 +376,7 @@ void World::Impl::compile(const WorldSpec& spec) {
     l.push_back(Linear{});
   std::vector<IsoRot> iso_rots;
   std::array<std::vector<DiagRot>, 2> diag_rots;  // axisymmetric, general
+  std::array<std::vector<Quat>, 2> rots_BP;       // axisymmetric, general
 
   for (int i = 0; i < n; ++i) {
     const BodySpec& b = spec.bodies[i];
@@ -459,7 +468,7 @@ void World::Impl::compile(const WorldSpec& spec) {
         diag_rots[0].push_back(diag);
         model.axi.plan.emplace_back();
         model.axi.plan_ok.push_back(0);
-        model.axi.q_BP.push_back(q_BP);
+        rots_BP[0].push_back(q_BP);
         break;
       case BodyModel::kGeneral:
         diag_rots[1].push_back(diag);
@@ -473,7 +482,7 @@ void World::Impl::compile(const WorldSpec& spec) {
         model.gen.plan.push_back();
         model.gen.plan_ok.push_back(0);
         model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
-        model.gen.q_BP.push_back(q_BP);
+        rots_BP[1].push_back(q_BP);
         break;
     }
   }
@@ -482,6 +491,8 @@ void World::Impl::compile(const WorldSpec& spec) {
   share(iso_rots, 0, model.iso.rot);
   share(diag_rots[0], 0, model.axi.rot);
   share(diag_rots[1], 0, model.gen.rot);
+  share(rots_BP[0], 0, model.axi.q_BP);
+  share(rots_BP[1], 0, model.gen.q_BP);
   for (int i = 0; i < n; ++i) {
     const detail::SpecStore& b = specs;
     set_state(i, BodyState{b.p_WBo(i), b.q_WB(i), b.v_WBo(i), b.w_WB(i)});
@@ -530,7 +541,7 @@ void World::Impl::compile(const WorldSpec& spec) {
     set_loads(base_ids[k], base_values[k]);
   last_good.resize(n);
   for (int i = 0; i < n; ++i)
-    last_good[i] = {motion(i).q, motion(i).x};
+    last_good[i] = Pose(motion(i).q, motion(i).x);
   frozen.assign(n, 0);
   frozen_ids.clear();
   frozen_lin.clear();
@@ -556,12 +567,12 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
       sw(model.iso.rot.of), model.iso.dq.swap(a, b), sw(model.iso.dq_ok);
       break;
     case BodyModel::kAxisymmetric:
-      sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP);
+      sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP.of);
       break;
     case BodyModel::kGeneral:
       sw(model.gen.rot.of), sw(model.gen.rotor), sw(model.gen.plan_ok);
       model.gen.plan.swap(a, b);
-      sw(model.gen.axis), sw(model.gen.q_BP);
+      sw(model.gen.axis), sw(model.gen.q_BP.of);
       break;
   }
   slot[g.id[a]].index = a;
@@ -679,7 +690,7 @@ void World::Impl::guard() {
     if (frozen[id]) continue;
     const Motion& m = motion(id);
     if (sane(m)) {
-      last_good[id] = {m.q, m.x};
+      last_good[id] = Pose(m.q, m.x);
     } else {
       freeze(id);
     }
@@ -688,8 +699,8 @@ void World::Impl::guard() {
 
 void World::Impl::freeze(int id) {
   Motion& m = motion(id);
-  m.q = last_good[id].q;
-  m.x = last_good[id].x;
+  m.q = last_good[id].quat();
+  m.x = last_good[id].pos();
   m.v.setZero();
   m.spin.setZero();
   const Slot& s = slot[id];
@@ -1034,7 +1045,7 @@ struct StateWriter {
     const auto rotated = [&](const auto& g) {
       span(g.size(), [&](int k) {
         const Motion& m = g.motion[k];
-        put(g.id[k], m, m.q * g.q_BP[k].conjugate(), rotate(m.q, g.rot(k).omega(m.spin)));
+        put(g.id[k], m, m.q * g.q_BP(k).conjugate(), rotate(m.q, g.rot(k).omega(m.spin)));
       });
     };
     rotated(model.axi);
@@ -1095,7 +1106,7 @@ void World::reset() {
   w.pending.clear();
   clear_applied();
   for (int i = 0; i < body_count(); ++i)
-    w.last_good[i] = {w.motion(i).q, w.motion(i).x};
+    w.last_good[i] = Impl::Pose(w.motion(i).q, w.motion(i).x);
 }
 
 void World::clear_applied() {

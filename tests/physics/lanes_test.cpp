@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -249,32 +250,75 @@ TEST(Lanes, LoadedBodiesMatchTheScalarCompositionToRoundOff) {
   }
 }
 
-// The general bodies' plans are stored eight to a block, field by field (rotor_plans.hpp): what is
-// set comes back bit for bit, a swap exchanges two entries whole, the kernel's view of a block
-// holds each entry's fields in its lane, and lane_ready says which plans the kernel may step.
-// Plans of every kind: both cases, short steps (quadrature nodes) and long ones (closed form and
-// panels), a still body.
-TEST(RotorPlans, StoreEveryPlanBitForBit) {
+// The general bodies' plans are stored eight to a block, field by field (rotor_plans.hpp): what
+// RotorUpdate::kPinned reads comes back bit for bit (a short step's nodes, a long step's closed
+// form in their place), what it does not read comes back NaN, a plan from the store steps bit for
+// bit as the plan set, a swap exchanges two entries whole, the kernel's view of a block holds each
+// entry's fields in its lane, and lane_ready says which plans the kernel may step. Plans of every
+// kind: both cases, short steps (quadrature nodes) and long ones (closed form and panels), a still
+// body.
+TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
   using physics::RotorPlan;
   using physics::detail::RotorPlans;
   const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
   const auto same = [&](const RotorPlan& x, const RotorPlan& y) {
-    bool ok = x.still == y.still && x.case_b == y.case_b && x.n == y.n && x.closed == y.closed;
-    for (auto [u, v] : {std::pair{x.s, y.s}, {x.a, y.a},     {x.b, y.b},     {x.c, y.c},
-                        {x.ia, y.ia},        {x.ib, y.ib},   {x.ic, y.ic},   {x.cn_bias, y.cn_bias},
-                        {x.m, y.m},          {x.mc, y.mc},   {x.G, y.G},     {x.lin, y.lin},
-                        {x.abG2, y.abG2},    {x.cG, y.cG},   {x.S, y.S},     {x.C, y.C},
-                        {x.D, y.D},          {x.mS2, y.mS2}, {x.mSC, y.mSC}, {x.Cm1, y.Cm1},
-                        {x.Dm1, y.Dm1},      {x.X, y.X},     {x.q, y.q},     {x.isr, y.isr},
-                        {x.sq, y.sq},        {x.qm3, y.qm3}, {x.K, y.K},     {x.Jc, y.Jc}})
+    bool ok = x.still == y.still && x.case_b == y.case_b && x.n == y.n;
+    for (auto [u, v] : {std::pair{x.s, y.s},
+                        {x.a, y.a},
+                        {x.b, y.b},
+                        {x.c, y.c},
+                        {x.ia, y.ia},
+                        {x.ib, y.ib},
+                        {x.cn_bias, y.cn_bias},
+                        {x.m, y.m},
+                        {x.mc, y.mc},
+                        {x.G, y.G},
+                        {x.lin, y.lin},
+                        {x.abG2, y.abG2},
+                        {x.cG, y.cG},
+                        {x.S, y.S},
+                        {x.C, y.C},
+                        {x.D, y.D},
+                        {x.mS2, y.mS2},
+                        {x.mSC, y.mSC}})
       ok = ok && bits(u) == bits(v);
+    // Only RotorUpdate::kIncrement reads these: not kept (x is the store's).
+    ok = ok && std::isnan(x.ic) && std::isnan(x.Cm1) && std::isnan(x.Dm1);
+    if (y.n > 0) {
+      for (int k = 0; k < 4; ++k)
+        ok = ok && bits(x.w[k]) == bits(y.w[k]) && bits(x.Dn[k]) == bits(y.Dn[k]) &&
+             bits(x.mS2n[k]) == bits(y.mS2n[k]) && bits(x.mSCn[k]) == bits(y.mSCn[k]);
+      for (double v : {x.X, x.q, x.isr, x.sq, x.qm3, x.K, x.Jc})
+        ok = ok && std::isnan(v);
+    } else {
+      ok = ok && x.closed == y.closed;
+      for (auto [u, v] : {std::pair{x.X, y.X},
+                          {x.q, y.q},
+                          {x.isr, y.isr},
+                          {x.sq, y.sq},
+                          {x.qm3, y.qm3},
+                          {x.K, y.K},
+                          {x.Jc, y.Jc}})
+        ok = ok && bits(u) == bits(v);
+    }
+    return ok;
+  };
+  // One pinned step from momentum m with each plan: the same bits.
+  const auto steps_alike = [&](const RotorPlan& x, const RotorPlan& y, const Vec3& m) {
+    Vec3 mx = m, my = m;
+    Quat dx, dy;
+    physics::advance_rotor(x, mx, dx, physics::RotorUpdate::kPinned);
+    physics::advance_rotor(y, my, dy, physics::RotorUpdate::kPinned);
+    bool ok = true;
+    for (int k = 0; k < 3; ++k)
+      ok = ok && bits(mx[k]) == bits(my[k]);
     for (int k = 0; k < 4; ++k)
-      ok = ok && bits(x.w[k]) == bits(y.w[k]) && bits(x.Dn[k]) == bits(y.Dn[k]) &&
-           bits(x.mS2n[k]) == bits(y.mS2n[k]) && bits(x.mSCn[k]) == bits(y.mSCn[k]);
+      ok = ok && bits(dx.coeffs()[k]) == bits(dy.coeffs()[k]);
     return ok;
   };
   const physics::RotorInertia J(Vec3(1.0, 2.0, 3.0));
   std::vector<RotorPlan> made;
+  std::vector<Vec3> from;
   for (int i = 0; i < 29; ++i) {
     // Momenta about each axis (case a and b), near the separatrix, and zero; steps from 1 ms to
     // 30 s (long steps: no nodes).
@@ -285,10 +329,13 @@ TEST(RotorPlans, StoreEveryPlanBitForBit) {
     RotorPlan p;
     physics::make_rotor_plan(J, m, h, p);
     made.push_back(p);
+    from.push_back(m);
   }
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.case_b; }));
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return !p.case_b; }));
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n == 0 && !p.still; }));
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n == 0 && p.closed; }));
+  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n > 1; }));
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.still; }));
 
   RotorPlans store;
@@ -300,6 +347,7 @@ TEST(RotorPlans, StoreEveryPlanBitForBit) {
   for (std::size_t i = 0; i < made.size(); ++i) {
     const int k = static_cast<int>(i);
     EXPECT_TRUE(same(store.get(k), made[i])) << "entry " << i;
+    EXPECT_TRUE(steps_alike(store.get(k), made[i], from[i])) << "entry " << i;
     EXPECT_EQ(store.lane_ready(k), !made[i].still && made[i].n > 0) << "entry " << i;
     const auto& L = store.lanes(k / RotorPlans::kBlock);
     const int l = k % RotorPlans::kBlock;
@@ -307,16 +355,19 @@ TEST(RotorPlans, StoreEveryPlanBitForBit) {
     EXPECT_EQ(bits(L.k2[l]), bits(made[i].m));
     EXPECT_EQ(bits(L.cG[l]), bits(made[i].cG));
     EXPECT_EQ(bits(L.mSCn[3][l]), bits(made[i].mSCn[3]));
-    for (int n = 0; n < 4; ++n)
-      EXPECT_EQ(L.node[n][l], n < made[i].n ? -1 : 0);
+    EXPECT_EQ(L.n[l], made[i].n);
   }
   // Across blocks and within one.
   for (auto [a, b] : {std::pair{3, 20}, {0, 1}, {28, 8}}) {
     store.swap(a, b);
     std::swap(made[static_cast<std::size_t>(a)], made[static_cast<std::size_t>(b)]);
+    std::swap(from[static_cast<std::size_t>(a)], from[static_cast<std::size_t>(b)]);
   }
-  for (std::size_t i = 0; i < made.size(); ++i)
+  for (std::size_t i = 0; i < made.size(); ++i) {
     EXPECT_TRUE(same(store.get(static_cast<int>(i)), made[i])) << "after swaps, entry " << i;
+    EXPECT_TRUE(steps_alike(store.get(static_cast<int>(i)), made[i], from[i]))
+        << "after swaps, entry " << i;
+  }
 }
 
 }  // namespace
