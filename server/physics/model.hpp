@@ -238,19 +238,28 @@ struct AxiGroup : Group {
   Shared<Quat> q_BP;
 };
 
+// The end-of-step frame quaternion that advance_rotor carries from one step to the next
+// (free_rotor.cpp, finish_step): its z is 0 by construction, so it is kept as (w, x, y), 24 B
+// where a Quat takes 32. All zero: none carried (w > 0 for a valid one).
+struct AxisFrame {
+  double w = 0.0, x = 0.0, y = 0.0;
+  AxisFrame() = default;
+  explicit AxisFrame(const Quat& q) : w(q.w()), x(q.x()), y(q.y()) {}
+  Quat quat() const { return Quat(w, x, y, 0.0); }
+};
+
 struct GenGroup : Group {
   static constexpr int kIndex = 3;
   Shared<DiagRot> rot;
-  // The exact rotor's constants depend on the principal moments alone and are read only when a
-  // plan is made: bodies with the same moments share one (rotors), each entry keeps its index.
-  // A world of one kind of body pays 4 B a body instead of 144; one of all-different bodies 148.
-  std::vector<std::int32_t> rotor;
+  // The exact rotor's constants, read only when a plan is made: rotors[k] for rot.values[k], so
+  // that rot's index serves both (bodies that share a DiagRot share their rotor; a world of one
+  // kind of body pays for one).
   std::vector<RotorInertia> rotors;
-  const RotorInertia& rotor_of(int i) const { return rotors[rotor[i]]; }
+  const RotorInertia& rotor_of(int i) const { return rotors[rot.of[i]]; }
   RotorPlans plan;  // structure of arrays, as the lanes kernel reads them (rotor_plans.hpp)
   std::vector<std::uint8_t> plan_ok;
-  // The last step's end-of-step frame quaternion, the next step's start: see advance_rotor.
-  std::vector<Quat> axis;
+  // The last step's end-of-step frame, the next step's start: see advance_rotor.
+  std::vector<AxisFrame> axis;
   Shared<Quat> q_BP;  // as AxiGroup::q_BP
 };
 

@@ -16,14 +16,17 @@ namespace rigid::physics::detail {
 
 // Eight plans' fields as the kernel reads them, component-major: RotorPlan's case as a lane mask
 // (-1: case b), its phase constants and amplitudes, and the psi integral's quadrature: n[l]
-// nodes in lane l (the kernel steps node i in the lanes where n > i). k2 is RotorPlan::m.
+// nodes in lane l (the kernel steps node i in the lanes where n > i). k2 is RotorPlan::m. What
+// the plan derives from these by products alone (cn_bias, mS2, mSC: free_rotor.cpp, plan_core)
+// the kernel derives again in the same operations, to the same bits, rather than load.
 struct alignas(64) RotorPlanLanes {
   static constexpr int kMax = 8;
   static constexpr int kNodes = 4;  // RotorPlan's quadrature nodes at most
   using L = double[kMax];
   std::int64_t case_b[kMax];
-  L s, ia, ib, cn_bias, k2, mc, cG, mS2, C, D, S, mSC, a, b, c, lin, abG2, G;
+  L s, ia, ib, k2, mc, cG, C, D, S, a, b, c, lin, abG2, G;
   std::int32_t n[kMax];
+  std::uint8_t still[kMax];  // RotorPlan::still: read by the scalar code alone
   L w[kNodes], Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
 

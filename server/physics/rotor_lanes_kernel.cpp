@@ -56,13 +56,14 @@ inline V inv_sqrt(V x) {
 
 void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off) {
   const Mask case_b = load_mask(p.case_b + off);
-  const V s = load(p.s + off), ia = load(p.ia + off), ib = load(p.ib + off),
-          cn_bias = load(p.cn_bias + off);
-  const V k2 = load(p.k2 + off), mc = load(p.mc + off), cG = load(p.cG + off),
-          mS2 = load(p.mS2 + off);
-  const V C = load(p.C + off), D = load(p.D + off), S = load(p.S + off), mSC = load(p.mSC + off);
+  const V s = load(p.s + off), ia = load(p.ia + off), ib = load(p.ib + off);
+  const V k2 = load(p.k2 + off), mc = load(p.mc + off), cG = load(p.cG + off);
+  const V C = load(p.C + off), D = load(p.D + off), S = load(p.S + off);
   const V a = load(p.a + off), bb = load(p.b + off), c = load(p.c + off), lin = load(p.lin + off),
           abG2 = load(p.abG2 + off);
+  // As plan_core makes them: cn_bias = (a > 0 ? 0 : 1), mS2 = m sn sn, mSC = m sn C.
+  const V cn_bias = select(a > 0.0, splat(0.0), splat(1.0));
+  const V mS2 = k2 * S * S, mSC = k2 * S * C;
   const V G = load(p.G + off);
   const V3 m = V3{load(st.m[0] + off), load(st.m[1] + off), load(st.m[2] + off)};
 

@@ -27,12 +27,11 @@ double long_slot(const RotorPlanLanes& L, int k, int l) {
 }  // namespace
 
 RotorPlan RotorPlans::get(int i) const {
-  const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
-  const RotorPlanLanes& L = b.lanes;
+  const RotorPlanLanes& L = blocks_[static_cast<std::size_t>(i / kBlock)];
   const int l = i % kBlock;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   RotorPlan p;
-  p.still = b.still[l] != 0;
+  p.still = L.still[l] != 0;
   p.case_b = L.case_b[l] != 0;
   p.s = L.s[l];
   p.a = L.a[l];
@@ -41,7 +40,7 @@ RotorPlan RotorPlans::get(int i) const {
   p.ia = L.ia[l];
   p.ib = L.ib[l];
   p.ic = kNaN;
-  p.cn_bias = L.cn_bias[l];
+  p.cn_bias = p.a > 0.0 ? 0.0 : 1.0;  // derived as plan_core does (rotor_lanes.hpp)
   p.m = L.k2[l];
   p.mc = L.mc[l];
   p.G = L.G[l];
@@ -51,8 +50,8 @@ RotorPlan RotorPlans::get(int i) const {
   p.S = L.S[l];
   p.C = L.C[l];
   p.D = L.D[l];
-  p.mS2 = L.mS2[l];
-  p.mSC = L.mSC[l];
+  p.mS2 = p.m * p.S * p.S;
+  p.mSC = p.m * p.S * p.C;
   p.Cm1 = kNaN;
   p.Dm1 = kNaN;
   p.n = L.n[l];
@@ -79,10 +78,9 @@ RotorPlan RotorPlans::get(int i) const {
 }
 
 void RotorPlans::set(int i, const RotorPlan& p) {
-  Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
-  RotorPlanLanes& L = b.lanes;
+  RotorPlanLanes& L = blocks_[static_cast<std::size_t>(i / kBlock)];
   const int l = i % kBlock;
-  b.still[l] = p.still ? 1 : 0;
+  L.still[l] = p.still ? 1 : 0;
   L.case_b[l] = p.case_b ? -1 : 0;
   L.s[l] = p.s;
   L.a[l] = p.a;
@@ -90,7 +88,6 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.c[l] = p.c;
   L.ia[l] = p.ia;
   L.ib[l] = p.ib;
-  L.cn_bias[l] = p.cn_bias;
   L.k2[l] = p.m;
   L.mc[l] = p.mc;
   L.G[l] = p.G;
@@ -100,8 +97,6 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.S[l] = p.S;
   L.C[l] = p.C;
   L.D[l] = p.D;
-  L.mS2[l] = p.mS2;
-  L.mSC[l] = p.mSC;
   L.n[l] = p.n;
   for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
     L.w[k][l] = p.w[k];

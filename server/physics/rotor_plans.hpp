@@ -6,12 +6,13 @@
 // (perf record on step_bench's racket case: the copy 23%, the kernel 42%).
 //
 // A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
-// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 288 B an
+// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 264 B an
 // entry, where the whole RotorPlan took 398 (bench/memory_bench.cpp; issue 13's budget of 500 B
 // a body). What RotorUpdate::kIncrement alone reads (ic, Cm1, Dm1) is not kept: get gives NaN
-// there. A long step (no quadrature nodes) keeps its closed-form constants (X, q, isr, sq, qm3,
-// K, Jc, closed) in the node slots it does not use; a short step reads none of them, and get
-// gives NaN for them. advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
+// there; what plan_core derives by products alone (cn_bias, mS2, mSC) get derives again. A long
+// step (no quadrature nodes) keeps its closed-form constants (X, q, isr, sq, qm3, K, Jc, closed) in
+// the node slots it does not use; a short step reads none of them, and get gives NaN for them.
+// advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
 #pragma once
 
 #include <cstddef>
@@ -36,9 +37,9 @@ class RotorPlans {
   // Whether entry i's plan can step in the lanes kernel: something moves and the step is short
   // (its quadrature nodes are cached). Says nothing of whether the plan is still valid.
   bool lane_ready(int i) const {
-    const Block& b = blocks_[static_cast<std::size_t>(i / kBlock)];
+    const RotorPlanLanes& b = blocks_[static_cast<std::size_t>(i / kBlock)];
     const int l = i % kBlock;
-    return b.still[l] == 0 && b.lanes.n[l] > 0;
+    return b.still[l] == 0 && b.n[l] > 0;
   }
   // Asks the CPU to bring block k's kernel fields into the cache (a hint; nothing if k is past
   // the end): the kernel reads them in its own order, not the memory's, which the hardware
@@ -48,18 +49,13 @@ class RotorPlans {
     const char* p = reinterpret_cast<const char*>(&blocks_[static_cast<std::size_t>(block)]);
     for (std::size_t k = 0; k < sizeof(RotorPlanLanes); k += 64)
       __builtin_prefetch(p + k);
-    __builtin_prefetch(p + offsetof(Block, still));
   }
-  const RotorPlanLanes& lanes(int block) const {
-    return blocks_[static_cast<std::size_t>(block)].lanes;
-  }
+  const RotorPlanLanes& lanes(int block) const { return blocks_[static_cast<std::size_t>(block)]; }
 
  private:
-  struct Block {
-    RotorPlanLanes lanes;  // a long step's constants in the node slots (see above)
-    std::uint8_t still[kBlock];
-  };
-  std::vector<Block> blocks_;
+  // A long step's constants in the node slots (see above).
+  static_assert(sizeof(RotorPlanLanes) == 33 * 64, "264 B an entry");
+  std::vector<RotorPlanLanes> blocks_;
   int size_ = 0;
 };
 

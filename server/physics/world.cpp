@@ -1,11 +1,12 @@
 #include "physics/world.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <initializer_list>
-#include <map>
 #include <sstream>
 #include <thread>
 #include <unordered_map>
@@ -88,6 +89,9 @@ void build_trans_table(Model& m) {
 }
 
 }  // namespace detail
+
+// Worlds of at least this many bodies give the scratch of their compilation back (compile).
+constexpr int kTrimBodies = 1 << 16;
 
 struct World::Impl {
   Vec3 g_W = Vec3::Zero();
@@ -368,7 +372,6 @@ void World::Impl::compile(const WorldSpec& spec) {
   pending_slot.assign(n, -1);
   pending.clear();  // capacity: reserve_scratch, below
   std::unordered_map<double, int> drag_row{{0.0, 0}};
-  std::map<std::array<double, 3>, std::int32_t> rotor_row;  // principal moments -> rotors row
   // Per model the entries' shared parameters, interned after the loop. The translation lists
   // start with the still body's (all zero), which so becomes entry 0 (Group::linear).
   std::array<std::vector<Linear>, 4> linears;
@@ -472,16 +475,9 @@ void World::Impl::compile(const WorldSpec& spec) {
         break;
       case BodyModel::kGeneral:
         diag_rots[1].push_back(diag);
-        {
-          const std::array<double, 3> key{diag.I.x(), diag.I.y(), diag.I.z()};
-          auto [it, added] =
-              rotor_row.emplace(key, static_cast<std::int32_t>(model.gen.rotors.size()));
-          if (added) model.gen.rotors.emplace_back(diag.I);
-          model.gen.rotor.push_back(it->second);
-        }
         model.gen.plan.push_back();
         model.gen.plan_ok.push_back(0);
-        model.gen.axis.emplace_back(0.0, 0.0, 0.0, 0.0);
+        model.gen.axis.emplace_back();
         rots_BP[1].push_back(q_BP);
         break;
     }
@@ -491,6 +487,8 @@ void World::Impl::compile(const WorldSpec& spec) {
   share(iso_rots, 0, model.iso.rot);
   share(diag_rots[0], 0, model.axi.rot);
   share(diag_rots[1], 0, model.gen.rot);
+  for (const DiagRot& r : model.gen.rot.values)
+    model.gen.rotors.emplace_back(r.I);
   share(rots_BP[0], 0, model.axi.q_BP);
   share(rots_BP[1], 0, model.gen.q_BP);
   for (int i = 0; i < n; ++i) {
@@ -550,6 +548,11 @@ void World::Impl::compile(const WorldSpec& spec) {
   for (int i = 0; i < n; ++i)
     place(i);
   set_threads(spec.threads);
+  // Compiling a large world frees scratch of tens of bytes a body (the interning's keys and
+  // indices, the per-model lists) that glibc keeps in its heap, resident, once its dynamic mmap
+  // threshold has risen: ~40 B a body at 10^6 general bodies (bench/memory_bench.cpp). Give it
+  // back to the system; a small world's is not worth the walk over the heap.
+  if (n >= kTrimBodies) malloc_trim(0);
 }
 
 void World::Impl::swap_entries(BodyModel kind, int a, int b) {
@@ -570,7 +573,7 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
       sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP.of);
       break;
     case BodyModel::kGeneral:
-      sw(model.gen.rot.of), sw(model.gen.rotor), sw(model.gen.plan_ok);
+      sw(model.gen.rot.of), sw(model.gen.plan_ok);
       model.gen.plan.swap(a, b);
       sw(model.gen.axis), sw(model.gen.q_BP.of);
       break;
