@@ -491,6 +491,17 @@ void World::Impl::compile(const WorldSpec& spec) {
     model.gen.rotors.emplace_back(r.I);
   share(rots_BP[0], 0, model.axi.q_BP);
   share(rots_BP[1], 0, model.gen.q_BP);
+  // The per-model lists are spent. A large world's scratch (these, the interning's keys and
+  // indices, the SpecStore's) stays resident in glibc's heap once freed, when its dynamic mmap
+  // threshold has risen. Give it back to the system before reserving what stepping may need
+  // (reserve_scratch), so that those reservations take fresh pages, which stay out of memory
+  // until used: 50 B a body less at 10^6 general bodies (bench/memory_bench.cpp). A small
+  // world's is not worth the walk over the heap.
+  linears = {};
+  iso_rots = {};
+  diag_rots = {};
+  rots_BP = {};
+  if (n >= kTrimBodies) malloc_trim(0);
   for (int i = 0; i < n; ++i) {
     const detail::SpecStore& b = specs;
     set_state(i, BodyState{b.p_WBo(i), b.q_WB(i), b.v_WBo(i), b.w_WB(i)});
@@ -548,11 +559,6 @@ void World::Impl::compile(const WorldSpec& spec) {
   for (int i = 0; i < n; ++i)
     place(i);
   set_threads(spec.threads);
-  // Compiling a large world frees scratch of tens of bytes a body (the interning's keys and
-  // indices, the per-model lists) that glibc keeps in its heap, resident, once its dynamic mmap
-  // threshold has risen: ~40 B a body at 10^6 general bodies (bench/memory_bench.cpp). Give it
-  // back to the system; a small world's is not worth the walk over the heap.
-  if (n >= kTrimBodies) malloc_trim(0);
 }
 
 void World::Impl::swap_entries(BodyModel kind, int a, int b) {
