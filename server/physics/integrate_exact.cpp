@@ -235,32 +235,32 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
 // is stepped from its block; the others (a plan to make, a still body, a long step, a block cut
 // by the range's ends) take the scalar path. Both give the same bits, so the route a body takes
 // depends on nothing but its own plan and place. The translation does not depend on the rotation
-// of a body with nothing turning it: each body's is done first, as in exact_quiet.
+// of a body with nothing turning it: as for isotropic bodies, a chunk's translations go first
+// (translate_quiet, which reads no loads when no quiet body is pushed), then its rotations; the
+// chunks end on block boundaries, so they cut no block that the range does not.
 void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
   const int width = m.lanes;
   if (width == 1) return exact_quiet(g, m, r);
   constexpr int kBlock = RotorPlans::kBlock;
+  static_assert(kQuietChunk % kBlock == 0);
   RotorStateLanes st;
-  LinearCursor c(g, m, kFull);
-  for (int i = r.begin; i < r.end;) {
-    bool whole = i % kBlock == 0 && i + kBlock <= r.end;
-    for (int l = 0; whole && l < kBlock; ++l)
-      whole = rotor_lane_ready(g, i + l);
-    const int n = whole ? kBlock : 1;
-    for (int l = 0; l < n; ++l) {
-      Motion& mo = g.motion[i + l];
-      c.at(i + l);
-      translate(c.tc(), c.lin().accel(g.loads[i + l].f_W), mo.x, mo.v);
+  for (int begin = r.begin; begin < r.end;) {
+    const int end = std::min(r.end, (begin / kBlock) * kBlock + kQuietChunk);
+    translate_quiet(g, m, begin, end);
+    for (int i = begin; i < end;) {
+      const bool whole = i % kBlock == 0 && i + kBlock <= end && rotor_block_ready(g, i / kBlock);
+      if (whole) {
+        g.plan.prefetch(i / kBlock + 2);
+        rotor_gather_block(g, i / kBlock, st);
+        rotor_step_lanes(width, st, g.plan.lanes(i / kBlock));
+        rotor_scatter_block(st, i / kBlock, g);
+        i += kBlock;
+      } else {
+        drift_cached(g, i, m.dt);
+        ++i;
+      }
     }
-    if (whole) {
-      g.plan.prefetch(i / kBlock + 2);
-      rotor_gather_block(g, i / kBlock, st);
-      rotor_step_lanes(width, st, g.plan.lanes(i / kBlock));
-      rotor_scatter_block(st, i / kBlock, g);
-    } else {
-      drift_cached(g, i, m.dt);
-    }
-    i += n;
+    begin = end;
   }
 }
 

@@ -6,8 +6,12 @@
 
 namespace rigid::physics::detail {
 
-bool rotor_lane_ready(const GenGroup& g, int i) {
-  return g.plan_ok[i] && g.plan.lane_ready(i);
+bool rotor_block_ready(const GenGroup& g, int block) {
+  const std::uint8_t* ok = g.plan_ok.data() + static_cast<std::size_t>(block) * RotorPlans::kBlock;
+  bool all = true;
+  for (int l = 0; l < RotorPlans::kBlock; ++l)
+    all &= ok[l] != 0;
+  return all && g.plan.block_ready(block);
 }
 
 void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st) {

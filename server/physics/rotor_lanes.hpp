@@ -53,9 +53,9 @@ void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
 }
 
 struct GenGroup;
-// Whether entry i's cached plan is valid and can step in the kernel (made, not still, a short
-// step with nodes).
-bool rotor_lane_ready(const GenGroup& g, int i);
+// Whether the eight entries of block k (8k .. 8k + 7, all of which exist) have cached plans that
+// are valid and can step in the kernel (made, not still, short steps with nodes).
+bool rotor_block_ready(const GenGroup& g, int block);
 // Block k of g (entries 8k .. 8k + 7) into the state lanes, and back.
 void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st);
 void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g);

@@ -41,6 +41,15 @@ class RotorPlans {
     const int l = i % kBlock;
     return b.still[l] == 0 && b.n[l] > 0;
   }
+  // Whether all eight plans of block k (entries 8k .. 8k + 7, all of which exist) can step in the
+  // lanes kernel, as lane_ready says of each: one pass over the block's flags, no branch a lane.
+  bool block_ready(int block) const {
+    const RotorPlanLanes& b = blocks_[static_cast<std::size_t>(block)];
+    bool ok = true;
+    for (int l = 0; l < kBlock; ++l)
+      ok &= (b.still[l] == 0) & (b.n[l] > 0);
+    return ok;
+  }
   // Asks the CPU to bring block k's kernel fields into the cache (a hint; nothing if k is past
   // the end): the kernel reads them in its own order, not the memory's, which the hardware
   // prefetcher does not follow.
