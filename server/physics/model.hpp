@@ -251,11 +251,13 @@ struct AxisFrame {
 struct GenGroup : Group {
   static constexpr int kIndex = 3;
   Shared<DiagRot> rot;
-  // The exact rotor's constants, read only when a plan is made: rotors[k] for rot.values[k], so
-  // that rot's index serves both (bodies that share a DiagRot share their rotor; a world of one
-  // kind of body pays for one).
+  // The exact rotor's constants depend on the principal moments alone and are read only when a
+  // plan is made: one per distinct moments (rotors), found through the body's DiagRot entry
+  // (rotor_of_rot[rot.of[i]]), so a body pays no index of its own for them and a world of one
+  // kind of body pays for one.
   std::vector<RotorInertia> rotors;
-  const RotorInertia& rotor_of(int i) const { return rotors[rot.of[i]]; }
+  std::vector<std::int32_t> rotor_of_rot;  // per entry of rot.values
+  const RotorInertia& rotor_of(int i) const { return rotors[rotor_of_rot[rot.of[i]]]; }
   RotorPlans plan;  // structure of arrays, as the lanes kernel reads them (rotor_plans.hpp)
   std::vector<std::uint8_t> plan_ok;
   // The last step's end-of-step frame, the next step's start: see advance_rotor.

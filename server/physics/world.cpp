@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <initializer_list>
+#include <map>
 #include <sstream>
 #include <thread>
 #include <unordered_map>
@@ -487,8 +488,17 @@ void World::Impl::compile(const WorldSpec& spec) {
   share(iso_rots, 0, model.iso.rot);
   share(diag_rots[0], 0, model.axi.rot);
   share(diag_rots[1], 0, model.gen.rot);
-  for (const DiagRot& r : model.gen.rot.values)
-    model.gen.rotors.emplace_back(r.I);
+  {
+    // Bodies that differ in drag alone share their moments, and so one rotor.
+    std::map<std::array<double, 3>, std::int32_t> rotor_row;  // moments -> rotors row
+    for (const DiagRot& r : model.gen.rot.values) {
+      const std::array<double, 3> key{r.I.x(), r.I.y(), r.I.z()};
+      const auto [it, added] =
+          rotor_row.emplace(key, static_cast<std::int32_t>(model.gen.rotors.size()));
+      if (added) model.gen.rotors.emplace_back(r.I);
+      model.gen.rotor_of_rot.push_back(it->second);
+    }
+  }
   share(rots_BP[0], 0, model.axi.q_BP);
   share(rots_BP[1], 0, model.gen.q_BP);
   // The per-model lists are spent. A large world's scratch (these, the interning's keys and
