@@ -26,7 +26,7 @@ struct alignas(64) RotorPlanLanes {
   std::int64_t case_b[kMax];
   L s, ia, ib, k2, mc, cG, C, D, S, a, b, c, lin, abG2, G;
   std::int32_t n[kMax];
-  std::uint8_t still[kMax];  // RotorPlan::still: read by the scalar code alone
+  std::uint8_t still[kMax];  // RotorPlan::still: not read by the kernel (lane_ready is)
   L w[kNodes], Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
 
