@@ -105,9 +105,12 @@ struct World::Impl {
   // bodies pays for every byte here a million times (bench/memory_bench.cpp).
   std::vector<Slot> slot;  // by body id (q_BP: in the groups whose P is not B, see rot_BP)
   // The spec's loads, in P, of the bodies that have any (or angular drag, which Loads flags):
-  // ascending ids and their loads. Most bodies have none, and a dense copy cost 176 B each.
+  // ascending ids, and per id its entry in base_loads, where equal loads are kept once (scenes
+  // give many bodies the same thruster or drag). Most bodies have none, and a dense copy cost
+  // 176 B each.
   std::vector<int> base_ids;
-  std::vector<Loads> base_values;
+  std::vector<std::int32_t> base_of;
+  std::vector<Loads> base_loads;
   // Impulses waiting for the next step: per body the index of its entry in `pending` or -1, the
   // entries in order of arrival (capacity reserved for every body, so that apply_impulse never
   // allocates; untouched capacity is never resident).
@@ -161,7 +164,7 @@ struct World::Impl {
   const Loads& base_load(int id) const {
     static const Loads kNone{};
     const auto it = std::lower_bound(base_ids.begin(), base_ids.end(), id);
-    return it != base_ids.end() && *it == id ? base_values[it - base_ids.begin()] : kNone;
+    return it != base_ids.end() && *it == id ? base_loads[base_of[it - base_ids.begin()]] : kNone;
   }
   // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
   Quat rot_BP(int id) const {
@@ -249,6 +252,23 @@ Key key_of(const Linear& l) {
 }
 Key key_of(const IsoRot& r) {
   return key_of({r.inv_I, r.k, r.axis.x(), r.axis.y(), r.axis.z(), r.hinge});
+}
+// A Loads by its bits (LoadMath's flags and 21 doubles), for interning the spec's loads.
+struct LoadsKey {
+  std::array<std::uint64_t, 21> bits{};
+  std::uint32_t flags = 0;
+  auto operator<=>(const LoadsKey&) const = default;
+};
+LoadsKey key_of(const Loads& l) {
+  LoadsKey k;
+  k.flags = l.flags;
+  std::size_t n = 0;
+  for (const Vec3* v : {&l.f_W, &l.f_P, &l.tau_P, &l.tau_W})
+    for (int a = 0; a < 3; ++a)
+      k.bits[n++] = std::bit_cast<std::uint64_t>((*v)[a]);
+  for (int a = 0; a < 9; ++a)
+    k.bits[n++] = std::bit_cast<std::uint64_t>(l.fr.data()[a]);
+  return k;
 }
 Key key_of(const Quat& q) {
   return key_of({q.w(), q.x(), q.y(), q.z()});
@@ -501,17 +521,11 @@ void World::Impl::compile(const WorldSpec& spec) {
   }
   share(rots_BP[0], 0, model.axi.q_BP);
   share(rots_BP[1], 0, model.gen.q_BP);
-  // The per-model lists are spent. A large world's scratch (these, the interning's keys and
-  // indices, the SpecStore's) stays resident in glibc's heap once freed, when its dynamic mmap
-  // threshold has risen. Give it back to the system before reserving what stepping may need
-  // (reserve_scratch), so that those reservations take fresh pages, which stay out of memory
-  // until used: 50 B a body less at 10^6 general bodies (bench/memory_bench.cpp). A small
-  // world's is not worth the walk over the heap.
+  // The per-model lists are spent (given back below).
   linears = {};
   iso_rots = {};
   diag_rots = {};
   rots_BP = {};
-  if (n >= kTrimBodies) malloc_trim(0);
   for (int i = 0; i < n; ++i) {
     const detail::SpecStore& b = specs;
     set_state(i, BodyState{b.p_WBo(i), b.q_WB(i), b.v_WBo(i), b.w_WB(i)});
@@ -533,19 +547,19 @@ void World::Impl::compile(const WorldSpec& spec) {
   }
   std::sort(base_ids.begin(), base_ids.end());
   base_ids.erase(std::unique(base_ids.begin(), base_ids.end()), base_ids.end());
-  base_values.assign(base_ids.size(), Loads{});
-  const auto base_of = [&](int id) -> Loads& {
-    return base_values[std::lower_bound(base_ids.begin(), base_ids.end(), id) - base_ids.begin()];
+  std::vector<Loads> values(base_ids.size());
+  const auto value_of = [&](int id) -> Loads& {
+    return values[std::lower_bound(base_ids.begin(), base_ids.end(), id) - base_ids.begin()];
   };
   for (int i : base_ids) {
-    if (has_drag(i)) base_of(i).flags |= Loads::kAngularDrag;
+    if (has_drag(i)) value_of(i).flags |= Loads::kAngularDrag;
   }
   for (const LoadSpec& l : spec.loads) {
     const BodySpec& b = spec.bodies[l.body];
     if (b.kinematic) continue;  // a kinematic body ignores every force
     const Quat q_PB = rot_BP(l.body).conjugate();
     const Vec3 r_P = q_PB * l.p_BoQ_B;
-    Loads& L = base_of(l.body);
+    Loads& L = value_of(l.body);
     if (!l.force.isZero(0)) {
       L.add_force(l.frame == Frame::kBody ? Vec3(q_PB * l.force) : l.force, r_P,
                   l.frame == Frame::kBody);
@@ -555,9 +569,28 @@ void World::Impl::compile(const WorldSpec& spec) {
                    l.torque_frame == Frame::kBody);
     }
   }
+  {
+    std::vector<LoadsKey> keys;
+    keys.reserve(values.size());
+    for (const Loads& v : values)
+      keys.push_back(key_of(v));
+    std::vector<std::int32_t> first;
+    detail::intern(keys, base_of, first);
+    base_loads.clear();
+    for (const std::int32_t f : first)
+      base_loads.push_back(values[f]);
+  }
+  values = {};
+  // A large world's scratch (the per-model lists, the interning's keys and indices, the
+  // SpecStore's, the loads above) stays resident in glibc's heap once freed, when its dynamic
+  // mmap threshold has risen. Give it back to the system before reserving what stepping may need
+  // (reserve_scratch), so that those reservations take fresh pages, which stay out of memory
+  // until used: 50 B a body less at 10^6 general bodies (bench/memory_bench.cpp). A small
+  // world's is not worth the walk over the heap.
+  if (n >= kTrimBodies) malloc_trim(0);
   reserve_scratch();
   for (std::size_t k = 0; k < base_ids.size(); ++k)
-    set_loads(base_ids[k], base_values[k]);
+    set_loads(base_ids[k], base_loads[base_of[k]]);
   last_good.resize(n);
   for (int i = 0; i < n; ++i)
     last_good[i] = Pose(motion(i).q, motion(i).x);
@@ -1134,7 +1167,7 @@ void World::clear_applied() {
   std::size_t k = 0;  // walks base_ids, ascending like i
   for (int i = 0; i < body_count(); ++i) {
     const bool has_base = k < w.base_ids.size() && w.base_ids[k] == i;
-    const Loads& base = has_base ? w.base_values[k++] : kNone;
+    const Loads& base = has_base ? w.base_loads[w.base_of[k++]] : kNone;
     const bool was_quiet = w.load(i).quiet();
     w.set_loads(i, w.frozen[i] ? Loads{} : base);
     w.loads_changed(i, was_quiet);

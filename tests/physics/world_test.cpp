@@ -608,6 +608,60 @@ TEST(WorldCold, ClearingAppliedLoadsRestoresTheScenesOwnLoads) {
   EXPECT_EQ(plain.state(2).v_WBo, bare.state(2).v_WBo);
 }
 
+// The scene's loads are kept once per distinct value (world.cpp: base_loads): each body still
+// gets back its own when applied loads are cleared. Bodies with the same load, another load, drag
+// alone, a load and drag, and nothing step in one world, pushed and cleared every step, to the
+// same bits as each alone and never pushed.
+TEST(WorldCold, EachBodyGetsItsOwnSceneLoadsBack) {
+  WorldSpec ws;
+  ws.dt = 1e-3;
+  ws.g_W.setZero();
+  const Vec3 fA(0, 0, 2), fB(0.5, -1, 0);
+  struct Kind {
+    const Vec3* force;
+    double drag;
+  };
+  const Kind kinds[] = {{&fA, 0.0}, {&fB, 0.0},     {&fA, 0.0}, {nullptr, 0.3},
+                        {&fA, 0.3}, {nullptr, 0.0}, {&fB, 0.0}};
+  for (const Kind& k : kinds) {
+    const int i = static_cast<int>(ws.bodies.size());
+    BodySpec b = body("b" + std::to_string(i), Vec3(1, 2, 3), {0.2 * i, 1, -0.5});
+    b.angular_drag = k.drag;
+    ws.bodies.push_back(b);
+    if (k.force != nullptr) {
+      ws.loads.push_back(
+          LoadSpec{.body = i, .force = *k.force, .p_BoQ_B = {0.3, 0, 0.1}, .frame = Frame::kBody});
+    }
+  }
+  World w(ws);
+  for (int step = 0; step < 40; ++step) {
+    for (int i = 0; i < w.body_count(); ++i)
+      w.add_force(i, {1, -1, 0.5}, {0, 0.2, 0}, Frame::kWorld);
+    if (step % 2 == 0) {
+      w.clear_applied();
+    } else {
+      for (int i = 0; i < w.body_count(); ++i)
+        w.clear_applied(i);
+    }
+    w.step();
+  }
+  for (int i = 0; i < w.body_count(); ++i) {
+    WorldSpec one = ws;
+    one.bodies = {ws.bodies[static_cast<std::size_t>(i)]};
+    one.loads.clear();
+    for (LoadSpec l : ws.loads) {
+      if (l.body != i) continue;
+      l.body = 0;
+      one.loads.push_back(l);
+    }
+    World alone(one);
+    alone.step(40);
+    EXPECT_EQ(w.state(i).q_WB.coeffs(), alone.state(0).q_WB.coeffs()) << "body " << i;
+    EXPECT_EQ(w.state(i).w_WB, alone.state(0).w_WB) << "body " << i;
+    EXPECT_EQ(w.state(i).v_WBo, alone.state(0).v_WBo) << "body " << i;
+  }
+}
+
 TEST(WorldCold, ImpulsesOnABodySumAndResetDropsThePendingOnes) {
   WorldSpec ws;
   for (int i = 0; i < 3; ++i)
