@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "physics/elliptic.hpp"
+#include "physics/gauss_legendre.hpp"
 
 namespace rigid::physics {
 
@@ -47,25 +48,11 @@ RotorInertia::RotorInertia(const Vec3& I_in) : I(I_in) {
 
 namespace {
 
-// Gauss-Legendre nodes (positive half) and weights on [-1, 1].
-struct Rule {
-  int n;
-  double x[6];
-  double w[6];
-};
-constexpr Rule kGL2{2, {-0.57735026918962576, 0.57735026918962576}, {1.0, 1.0}};
-constexpr Rule kGL3{3,
-                    {-0.77459666924148338, 0.0, 0.77459666924148338},
-                    {0.55555555555555556, 0.88888888888888889, 0.55555555555555556}};
-constexpr Rule kGL4{
-    4,
-    {-0.86113631159405258, -0.33998104358485626, 0.33998104358485626, 0.86113631159405258},
-    {0.34785484513745386, 0.65214515486254614, 0.65214515486254614, 0.34785484513745386}};
-constexpr Rule kGL6{6,
-                    {-0.93246951420315203, -0.66120938646626451, -0.23861918608319691,
-                     0.23861918608319691, 0.66120938646626451, 0.93246951420315203},
-                    {0.17132449237917035, 0.36076157304813861, 0.46791393457269105,
-                     0.46791393457269105, 0.36076157304813861, 0.17132449237917035}};
+using detail::GaussLegendre;
+using detail::kGL2;
+using detail::kGL3;
+using detail::kGL4;
+using detail::kGL6;
 
 // Single-panel rules by panel width |X| (in units of tau). The integrand dn/(G + c dn) is analytic
 // for |Im tau| < K' (>= pi/2); with the conservative distance pi/4 the Gauss-Legendre bound
@@ -73,7 +60,7 @@ constexpr Rule kGL6{6,
 // widths. Wider steps use panels of kPanel with the 6-point rule.
 constexpr double kMaxGL2 = 0.004, kMaxGL3 = 0.02, kMaxGL4 = 0.05, kPanel = 0.15;
 
-const Rule* single_panel_rule(double absX) {
+const GaussLegendre* single_panel_rule(double absX) {
   if (absX <= kMaxGL2) return &kGL2;
   if (absX <= kMaxGL3) return &kGL3;
   if (absX <= kMaxGL4) return &kGL4;
@@ -307,7 +294,7 @@ void make_rotor_plan(const RotorInertia& J, const Vec3& mP, double h, RotorPlan&
   plan_core(J, mP, h, p, X);
   p.X = X;
   if (p.still) return;
-  const Rule* rule = single_panel_rule(std::abs(X));
+  const GaussLegendre* rule = single_panel_rule(std::abs(X));
   if (rule == nullptr) {  // p.n == 0: a long step, see advance_long
     plan_closed(p);
     return;

@@ -252,7 +252,7 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
       if (whole) {
         g.plan.prefetch(i / kBlock + 2);
         rotor_gather_block(g, i / kBlock, st);
-        rotor_step_lanes(width, st, g.plan.lanes(i / kBlock));
+        rotor_step_lanes(width, st, g.plan.lanes(i / kBlock), g.plan.flags(i / kBlock));
         rotor_scatter_block(st, i / kBlock, g);
         i += kBlock;
       } else {

@@ -2,16 +2,19 @@
 // scatters the results back (rotor_lanes.hpp); the plans stay where they are.
 #include "physics/rotor_lanes.hpp"
 
+#include <cstring>
+
 #include "physics/model.hpp"
 
 namespace rigid::physics::detail {
 
 bool rotor_block_ready(const GenGroup& g, int block) {
-  const std::uint8_t* ok = g.plan_ok.data() + static_cast<std::size_t>(block) * RotorPlans::kBlock;
-  bool all = true;
-  for (int l = 0; l < RotorPlans::kBlock; ++l)
-    all &= ok[l] != 0;
-  return all && g.plan.block_ready(block);
+  // plan_ok's eight bytes as one word (each 0 or 1).
+  static_assert(RotorPlans::kBlock == 8);
+  std::uint64_t ok;
+  std::memcpy(&ok, g.plan_ok.data() + static_cast<std::size_t>(block) * RotorPlans::kBlock,
+              sizeof ok);
+  return ok == 0x0101010101010101u && g.plan.block_ready(block);
 }
 
 void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st) {
@@ -42,17 +45,18 @@ void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g) {
   }
 }
 
-void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p) {
+void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p,
+                      const unsigned char* flags) {
   for (int off = 0; off < RotorPlanLanes::kMax; off += width) {
     switch (width) {
       case 8:
-        lanes8::rotor_step(st, p, off);
+        lanes8::rotor_step(st, p, flags, off);
         break;
       case 4:
-        lanes4::rotor_step(st, p, off);
+        lanes4::rotor_step(st, p, flags, off);
         break;
       default:
-        lanes2::rotor_step(st, p, off);
+        lanes2::rotor_step(st, p, flags, off);
         break;
     }
   }

@@ -14,21 +14,27 @@
 
 namespace rigid::physics::detail {
 
-// Eight plans' fields as the kernel reads them, component-major: RotorPlan's case as a lane mask
-// (-1: case b), its phase constants and amplitudes, and the psi integral's quadrature: n[l]
-// nodes in lane l (the kernel steps node i in the lanes where n > i). k2 is RotorPlan::m. What
-// the plan derives from these by products alone (cn_bias, mS2, mSC: free_rotor.cpp, plan_core)
-// the kernel derives again in the same operations, to the same bits, rather than load.
+// Eight plans' fields as the kernel reads them, component-major: RotorPlan's sign, amplitudes,
+// phase constants, its phase increment X and the psi integral's quadrature values at up to four
+// nodes. k2 is RotorPlan::m. What the kernel needs of each plan besides (its node count, its case,
+// whether it is still) is a byte an entry beside the block (RotorPlans::flags, kRotorFlag* below):
+// 28 lines of 64 B, 224 B an entry. The quadrature weights X w_i / 2 are not kept: the kernel
+// makes them from X and the rule of n nodes (gauss_legendre.hpp), in the operations
+// make_rotor_plan makes them in, to the same bits. Nor is what the plan derives from these by
+// products alone (cn_bias, mS2, mSC: free_rotor.cpp, plan_core): the kernel derives it again.
 struct alignas(64) RotorPlanLanes {
   static constexpr int kMax = 8;
   static constexpr int kNodes = 4;  // RotorPlan's quadrature nodes at most
   using L = double[kMax];
-  std::int64_t case_b[kMax];
-  L s, ia, ib, k2, mc, cG, C, D, S, a, b, c, lin, abG2, G;
-  std::int32_t n[kMax];
-  std::uint8_t still[kMax];  // RotorPlan::still: not read by the kernel (lane_ready is)
-  L w[kNodes], Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
+  L s, ia, ib, k2, mc, cG, C, D, S, a, b, c, lin, abG2, G, X;
+  L Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
+
+// A plan's flags byte: its quadrature node count (RotorPlan::n, 0 to 4: 0 is a long step, with no
+// nodes), its case (RotorPlan::case_b) and RotorPlan::still.
+constexpr unsigned kRotorFlagNodes = 7u;
+constexpr unsigned kRotorFlagCaseB = 8u;
+constexpr unsigned kRotorFlagStill = 16u;
 
 // Eight bodies' rotation state, component-major: q_WP, h_P, and the carried end-of-step axis
 // frame (GenGroup::axis).
@@ -40,16 +46,16 @@ struct alignas(64) RotorStateLanes {
   L aw, ax, ay, az;
 };
 
-// Lanes [off, off + width) of the state and the plans (width: the kernel's). The plans are
-// read where they are stored (GenGroup::plan, rotor_plans.hpp).
+// Lanes [off, off + width) of the state and the plans (width: the kernel's), `flags` the block's
+// eight flags bytes. The plans are read where they are stored (GenGroup::plan, rotor_plans.hpp).
 namespace lanes8 {
-void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off);
 }
 namespace lanes4 {
-void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off);
 }
 namespace lanes2 {
-void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off);
 }
 
 struct GenGroup;
@@ -60,6 +66,7 @@ bool rotor_block_ready(const GenGroup& g, int block);
 void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st);
 void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g);
 // All eight lanes, by the kernel of `width` lanes (8, 4 or 2).
-void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p);
+void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p,
+                      const unsigned char* flags);
 
 }  // namespace rigid::physics::detail

@@ -5,6 +5,7 @@
 // order; the parenthesised groupings below are the ones C++ and Eigen evaluate there. Change one
 // side and the other with it: lanes_test's Lanes.FreeBodiesStepBitForBitAsTheScalarCode compares
 // them bit for bit (RIGID_LANES=1 runs the scalar code).
+#include "physics/gauss_legendre.hpp"
 #include "physics/lanes.hpp"
 #include "physics/rotor_lanes.hpp"
 
@@ -54,8 +55,14 @@ inline V inv_sqrt(V x) {
 
 }  // namespace
 
-void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off) {
-  const Mask case_b = load_mask(p.case_b + off);
+void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off) {
+  // The lanes' flags bytes widened to 64 bits in one go (vpmovzxbq), not a lane at a time.
+  using Bytes = unsigned char __attribute__((vector_size(W)));
+  Bytes fb;
+  std::memcpy(&fb, flags + off, sizeof fb);
+  const Mask fl = __builtin_convertvector(fb, Mask);
+  const Mask case_b = (fl & kRotorFlagCaseB) != 0;
+  const Mask nodes = fl & kRotorFlagNodes;
   const V s = load(p.s + off), ia = load(p.ia + off), ib = load(p.ib + off);
   const V k2 = load(p.k2 + off), mc = load(p.mc + off), cG = load(p.cG + off);
   const V C = load(p.C + off), D = load(p.D + off), S = load(p.S + off);
@@ -89,18 +96,20 @@ void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, int off) {
     for (int l = 0; l < W; ++l)
       d0[l] = std::sqrt(r[l]);
   }
-  // The psi integral's nodes by the addition theorem, summed as one fraction.
+  // The psi integral's nodes by the addition theorem, summed as one fraction. Node i's weight
+  // X w_i / 2 with w_i that of the lane's rule (2, 3 or 4 nodes), as make_rotor_plan makes it.
   V top = splat(0.0), bottom = splat(1.0);
   const V sc0 = s0 * c0, ss0 = s0 * s0;
-  Mask nodes;
-  for (int l = 0; l < W; ++l)
-    nodes[l] = p.n[off + l];
+  const V half_X = 0.5 * load(p.X + off);
+  const Mask two = nodes == 2, three = nodes == 3;
   for (int i = 0; i < RotorPlanLanes::kNodes; ++i) {
     const Mask on = nodes > i;
     if (!any(on)) break;
+    const V rule_w =
+        select(two, splat(kGL2.w[i]), select(three, splat(kGL3.w[i]), splat(kGL4.w[i])));
     const V num = d0 * load(p.Dn[i] + off) - load(p.mSCn[i] + off) * sc0;
     const V den = (1.0 - load(p.mS2n[i] + off) * ss0) + cG * num;
-    top = select(on, top * den + load(p.w[i] + off) * num * bottom, top);
+    top = select(on, top * den + (half_X * rule_w) * num * bottom, top);
     bottom = select(on, bottom * den, bottom);
   }
   const V integral = top / bottom;

@@ -3,36 +3,41 @@
 #include <limits>
 #include <utility>
 
+#include "physics/gauss_legendre.hpp"
+
 namespace rigid::physics::detail {
 
 static_assert(RotorPlanLanes::kNodes == sizeof(RotorPlan::w) / sizeof(double));
-// A long step's eight constants fit in the slots of w and Dn.
-static_assert(2 * RotorPlanLanes::kNodes >= 8);
+static_assert(RotorPlanLanes::kNodes <= kRotorFlagNodes);
 
 void RotorPlans::push_back() {
-  if (size_ % kBlock == 0) blocks_.emplace_back();
+  if (size_ % kBlock == 0) {
+    blocks_.emplace_back();
+    flags_.resize(flags_.size() + kBlock);
+  }
   ++size_;
   set(size_ - 1, RotorPlan{});
 }
 
 namespace {
-// A long step's constants, where a short step keeps its nodes: w[0..3] and Dn[0..3] of its lane.
-enum LongSlot { kX, kQ, kIsr, kSq, kQm3, kK, kJc, kClosed };
+// A long step's constants, where a short step keeps its nodes: Dn[0..3] and mS2n[0..2] of its lane.
+enum LongSlot { kQ, kIsr, kSq, kQm3, kK, kJc, kClosed };
 double& long_slot(RotorPlanLanes& L, int k, int l) {
-  return k < 4 ? L.w[k][l] : L.Dn[k - 4][l];
+  return k < 4 ? L.Dn[k][l] : L.mS2n[k - 4][l];
 }
 double long_slot(const RotorPlanLanes& L, int k, int l) {
-  return k < 4 ? L.w[k][l] : L.Dn[k - 4][l];
+  return k < 4 ? L.Dn[k][l] : L.mS2n[k - 4][l];
 }
 }  // namespace
 
 RotorPlan RotorPlans::get(int i) const {
   const RotorPlanLanes& L = blocks_[static_cast<std::size_t>(i / kBlock)];
   const int l = i % kBlock;
+  const unsigned f = flags_[static_cast<std::size_t>(i)];
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   RotorPlan p;
-  p.still = L.still[l] != 0;
-  p.case_b = L.case_b[l] != 0;
+  p.still = (f & kRotorFlagStill) != 0;
+  p.case_b = (f & kRotorFlagCaseB) != 0;
   p.s = L.s[l];
   p.a = L.a[l];
   p.b = L.b[l];
@@ -54,18 +59,21 @@ RotorPlan RotorPlans::get(int i) const {
   p.mSC = p.m * p.S * p.C;
   p.Cm1 = kNaN;
   p.Dm1 = kNaN;
-  p.n = L.n[l];
+  p.X = L.X[l];
+  p.n = static_cast<int>(f & kRotorFlagNodes);
+  for (int k = 0; k < RotorPlanLanes::kNodes; ++k)
+    p.w[k] = p.Dn[k] = p.mS2n[k] = p.mSCn[k] = kNaN;
   if (p.n > 0) {
-    for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
-      p.w[k] = L.w[k][l];
+    const GaussLegendre& rule = *kRotorRule[p.n];
+    for (int k = 0; k < p.n; ++k) {
+      p.w[k] = 0.5 * p.X * rule.w[k];  // as make_rotor_plan makes it
       p.Dn[k] = L.Dn[k][l];
       p.mS2n[k] = L.mS2n[k][l];
       p.mSCn[k] = L.mSCn[k][l];
     }
-    p.X = p.q = p.isr = p.sq = p.qm3 = p.K = p.Jc = kNaN;
+    p.q = p.isr = p.sq = p.qm3 = p.K = p.Jc = kNaN;
     p.closed = false;
   } else {
-    p.X = long_slot(L, kX, l);
     p.q = long_slot(L, kQ, l);
     p.isr = long_slot(L, kIsr, l);
     p.sq = long_slot(L, kSq, l);
@@ -80,8 +88,10 @@ RotorPlan RotorPlans::get(int i) const {
 void RotorPlans::set(int i, const RotorPlan& p) {
   RotorPlanLanes& L = blocks_[static_cast<std::size_t>(i / kBlock)];
   const int l = i % kBlock;
-  L.still[l] = p.still ? 1 : 0;
-  L.case_b[l] = p.case_b ? -1 : 0;
+  // n is 0 or a rule's node count (make_rotor_plan); kRotorRule has one for each n > 0 kept.
+  flags_[static_cast<std::size_t>(i)] = static_cast<unsigned char>(
+      (static_cast<unsigned>(p.n) & kRotorFlagNodes) | (p.case_b ? kRotorFlagCaseB : 0u) |
+      (p.still ? kRotorFlagStill : 0u));
   L.s[l] = p.s;
   L.a[l] = p.a;
   L.b[l] = p.b;
@@ -97,15 +107,13 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.S[l] = p.S;
   L.C[l] = p.C;
   L.D[l] = p.D;
-  L.n[l] = p.n;
+  L.X[l] = p.X;
   for (int k = 0; k < RotorPlanLanes::kNodes; ++k) {
-    L.w[k][l] = p.w[k];
     L.Dn[k][l] = p.Dn[k];
     L.mS2n[k][l] = p.mS2n[k];
     L.mSCn[k][l] = p.mSCn[k];
   }
   if (p.n == 0) {
-    long_slot(L, kX, l) = p.X;
     long_slot(L, kQ, l) = p.q;
     long_slot(L, kIsr, l) = p.isr;
     long_slot(L, kSq, l) = p.sq;

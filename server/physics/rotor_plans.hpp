@@ -6,17 +6,20 @@
 // (perf record on step_bench's racket case: the copy 23%, the kernel 42%).
 //
 // A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
-// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 264 B an
-// entry, where the whole RotorPlan took 398 (bench/memory_bench.cpp; issue 13's budget of 500 B
-// a body). What RotorUpdate::kIncrement alone reads (ic, Cm1, Dm1) is not kept: get gives NaN
-// there; what plan_core derives by products alone (cn_bias, mS2, mSC) get derives again. A long
-// step (no quadrature nodes) keeps its closed-form constants (X, q, isr, sq, qm3, K, Jc, closed) in
-// the node slots it does not use; a short step reads none of them, and get gives NaN for them.
-// advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
+// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 224 B an
+// entry and a flags byte (node count, case, still), where the whole RotorPlan took 398
+// (bench/memory_bench.cpp; issue 13's budget of 500 B a body). What RotorUpdate::kIncrement
+// alone reads (ic, Cm1, Dm1) is not kept: get gives NaN there; what plan_core derives by products
+// alone (cn_bias, mS2, mSC) get derives again, and the quadrature weights w_i = X w_i(rule) / 2
+// too, from X and the rule of n nodes (gauss_legendre.hpp), as make_rotor_plan does. A long step
+// (no quadrature nodes) keeps its closed-form constants (q, isr, sq, qm3, K, Jc, closed) in the
+// node slots it does not use; a short step reads none of them, and get gives NaN for them, as for
+// the nodes past n. advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "physics/free_rotor.hpp"
@@ -37,18 +40,20 @@ class RotorPlans {
   // Whether entry i's plan can step in the lanes kernel: something moves and the step is short
   // (its quadrature nodes are cached). Says nothing of whether the plan is still valid.
   bool lane_ready(int i) const {
-    const RotorPlanLanes& b = blocks_[static_cast<std::size_t>(i / kBlock)];
-    const int l = i % kBlock;
-    return b.still[l] == 0 && b.n[l] > 0;
+    const unsigned f = flags_[static_cast<std::size_t>(i)];
+    return (f & kRotorFlagStill) == 0 && (f & kRotorFlagNodes) > 0;
   }
   // Whether all eight plans of block k (entries 8k .. 8k + 7, all of which exist) can step in the
   // lanes kernel, as lane_ready says of each: one pass over the block's flags, no branch a lane.
   bool block_ready(int block) const {
-    const RotorPlanLanes& b = blocks_[static_cast<std::size_t>(block)];
-    bool ok = true;
-    for (int l = 0; l < kBlock; ++l)
-      ok &= (b.still[l] == 0) & (b.n[l] > 0);
-    return ok;
+    // The eight bytes as one word: no still bit set, and some node bit set in every byte.
+    static_assert(kBlock == 8);
+    constexpr std::uint64_t kOnes = 0x0101010101010101u;
+    std::uint64_t f;
+    std::memcpy(&f, flags(block), sizeof f);
+    const std::uint64_t nodes = f & (kOnes * kRotorFlagNodes);
+    const std::uint64_t some = (nodes | (nodes >> 1) | (nodes >> 2)) & kOnes;
+    return (f & (kOnes * kRotorFlagStill)) == 0 && some == kOnes;
   }
   // Asks the CPU to bring block k's kernel fields into the cache (a hint; nothing if k is past
   // the end): the kernel reads them in its own order, not the memory's, which the hardware
@@ -60,11 +65,16 @@ class RotorPlans {
       __builtin_prefetch(p + k);
   }
   const RotorPlanLanes& lanes(int block) const { return blocks_[static_cast<std::size_t>(block)]; }
+  // Block k's eight flags bytes (kRotorFlag*, rotor_lanes.hpp).
+  const unsigned char* flags(int block) const {
+    return flags_.data() + static_cast<std::size_t>(block) * kBlock;
+  }
 
  private:
-  // A long step's constants in the node slots (see above).
-  static_assert(sizeof(RotorPlanLanes) == 33 * 64, "264 B an entry");
+  static_assert(sizeof(RotorPlanLanes) == 28 * 64, "224 B an entry");
   std::vector<RotorPlanLanes> blocks_;
+  std::vector<unsigned char>
+      flags_;  // an entry's flags, kBlock to a block (all of a block's exist)
   int size_ = 0;
 };
 

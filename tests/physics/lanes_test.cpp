@@ -134,7 +134,8 @@ TEST(Hybrid4Lanes, ABodyAloneStepsAsInABatch) {
 
 // Free bodies of every model (general, isotropic, axisymmetric, point masses: i % 4), with what
 // a quiet body may carry: gravity, linear drag, a force at its centre of mass; slow and fast spins
-// (a fast one takes the free rotor's long step, which stays scalar). Gravity and drag come in
+// (a fast one takes the free rotor's long step, which stays scalar; general bodies at three rates,
+// one per quadrature rule of a cached plan). Gravity and drag come in
 // runs (of 10 bodies of a model), so that the translation kernel takes runs of bodies sharing
 // their parameters whole and breaks them where they change; one point mass carries a
 // body-fixed force (its group's loaded run). 23 isotropic bodies: a remainder after fours.
@@ -147,7 +148,13 @@ WorldSpec free_bodies(int n, const std::string& integrator) {
     const Vec3 I = i % 4 == 0   ? Vec3(1, 2 + e, 3)
                    : i % 4 == 1 ? Vec3(0.4, 0.4, 0.4)
                                 : Vec3(1, 1, 1.8);
-    const double spin = i % 8 == 1 ? 400.0 : 5.0;
+    // General bodies at 5, 20 and 60 rad/s, mixed in every block: the cached plans' 2-, 3- and
+    // 4-node rules (|X| = 0.003, 0.012, 0.035 at 1 ms).
+    const double spin = i % 8 == 1       ? 400.0
+                        : i % 4 != 0     ? 5.0
+                        : i / 4 % 3 == 0 ? 5.0
+                        : i / 4 % 3 == 1 ? 20.0
+                                         : 60.0;
     BodySpec b = body("f" + std::to_string(i), I, {1e-3 + e, spin, 1e-3});
     b.has_inertia = i % 4 != 3;
     b.use_gravity = i / 40 % 2 == 0;
@@ -286,16 +293,21 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
       ok = ok && bits(u) == bits(v);
     // Only RotorUpdate::kIncrement reads these: not kept (x is the store's).
     ok = ok && std::isnan(x.ic) && std::isnan(x.Cm1) && std::isnan(x.Dm1);
+    ok = ok && bits(x.X) == bits(y.X);
+    // The nodes past n are not read: NaN (a long step has none).
+    for (int k = y.n; k < 4; ++k)
+      ok = ok && std::isnan(x.w[k]) && std::isnan(x.Dn[k]) && std::isnan(x.mS2n[k]) &&
+           std::isnan(x.mSCn[k]);
     if (y.n > 0) {
-      for (int k = 0; k < 4; ++k)
+      // The weights made again from X and the rule of n nodes.
+      for (int k = 0; k < y.n; ++k)
         ok = ok && bits(x.w[k]) == bits(y.w[k]) && bits(x.Dn[k]) == bits(y.Dn[k]) &&
              bits(x.mS2n[k]) == bits(y.mS2n[k]) && bits(x.mSCn[k]) == bits(y.mSCn[k]);
-      for (double v : {x.X, x.q, x.isr, x.sq, x.qm3, x.K, x.Jc})
+      for (double v : {x.q, x.isr, x.sq, x.qm3, x.K, x.Jc})
         ok = ok && std::isnan(v);
     } else {
       ok = ok && x.closed == y.closed;
-      for (auto [u, v] : {std::pair{x.X, y.X},
-                          {x.q, y.q},
+      for (auto [u, v] : {std::pair{x.q, y.q},
                           {x.isr, y.isr},
                           {x.sq, y.sq},
                           {x.qm3, y.qm3},
@@ -323,11 +335,11 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
   std::vector<Vec3> from;
   for (int i = 0; i < 29; ++i) {
     // Momenta about each axis (case a and b), near the separatrix, and zero; steps from 1 ms to
-    // 30 s (long steps: no nodes).
+    // 30 s (long steps: no nodes), and 20 ms (four nodes).
     const Vec3 m = i == 7 ? Vec3::Zero()
                           : Vec3(0.3 + 0.1 * (i % 3), (i % 2 ? 5.0 : 0.2) + 0.01 * i,
                                  (i % 2 ? 0.1 : 4.0) - 0.003 * i);
-    const double h = i % 4 == 3 ? 30.0 : 1e-3 * (1 + i % 5);
+    const double h = i % 4 == 3 ? 30.0 : i % 6 == 5 ? 0.02 : 1e-3 * (1 + i % 5);
     RotorPlan p;
     physics::make_rotor_plan(J, m, h, p);
     made.push_back(p);
@@ -337,7 +349,8 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return !p.case_b; }));
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n == 0 && !p.still; }));
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n == 0 && p.closed; }));
-  ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.n > 1; }));
+  for (int n : {2, 3, 4})  // each rule's weights
+    ASSERT_TRUE(std::any_of(made.begin(), made.end(), [n](auto& p) { return p.n == n; })) << n;
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.still; }));
 
   RotorPlans store;
@@ -353,11 +366,16 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
     EXPECT_EQ(store.lane_ready(k), !made[i].still && made[i].n > 0) << "entry " << i;
     const auto& L = store.lanes(k / RotorPlans::kBlock);
     const int l = k % RotorPlans::kBlock;
-    EXPECT_EQ(L.case_b[l], made[i].case_b ? -1 : 0);
+    const unsigned f = store.flags(k / RotorPlans::kBlock)[l];
+    EXPECT_EQ((f & physics::detail::kRotorFlagCaseB) != 0, made[i].case_b);
+    EXPECT_EQ((f & physics::detail::kRotorFlagStill) != 0, made[i].still);
+    EXPECT_EQ(static_cast<int>(f & physics::detail::kRotorFlagNodes), made[i].n);
     EXPECT_EQ(bits(L.k2[l]), bits(made[i].m));
     EXPECT_EQ(bits(L.cG[l]), bits(made[i].cG));
-    EXPECT_EQ(bits(L.mSCn[3][l]), bits(made[i].mSCn[3]));
-    EXPECT_EQ(L.n[l], made[i].n);
+    EXPECT_EQ(bits(L.X[l]), bits(made[i].X));
+    if (made[i].n == 4) {
+      EXPECT_EQ(bits(L.mSCn[3][l]), bits(made[i].mSCn[3]));
+    }
   }
   // Across blocks and within one.
   for (auto [a, b] : {std::pair{3, 20}, {0, 1}, {28, 8}}) {
