@@ -108,10 +108,10 @@ void BM_RotorLongStep(benchmark::State& state, Vec3 w0, double h, bool closed) {
   rigid::physics::RotorPlan p;
   rigid::physics::make_rotor_plan(J, m, h, p);
   if (!closed) p.closed = false;
-  Quat axis(0, 0, 0, 0), q = Quat::Identity();
+  Quat q = Quat::Identity();
   for (auto _ : state) {
     Quat dq;
-    rigid::physics::advance_rotor(p, m, dq, rigid::physics::RotorUpdate::kPinned, &axis);
+    rigid::physics::advance_rotor(p, m, dq, rigid::physics::RotorUpdate::kPinned);
     q = q * dq;
     benchmark::DoNotOptimize(q);
   }

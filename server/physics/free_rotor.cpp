@@ -145,41 +145,27 @@ inline double psi_integrand(double cG, double dn) {
 // Shared tail of a step: the orientation increment from the phases at both ends and dpsi, the
 // new momentum y (case coordinates, s y3 = c dn1) mapped back to P. `correction` is (a b / G^2)
 // times the integral of dn / (1 + (c/G) dn) over the phase increment.
+//
+// The frames at both ends are the minimal rotations taking m/G to s e3, (G + s m3, s m2, -s m1,
+// 0) / |.| with |.|^2 = 2 G (G + s m3), the start one rebuilt from the phase (s m1 = a cn,
+// s m2 = s b sn, s m3 = c dn). Both are left unnormalised, and d = p0^* Rz(dpsi) p1 is scaled
+// once: one square root and one division a step, as many as normalising the end frame alone. (The
+// end frame was once carried to the next step as its start frame, 24 B a body kept to save a
+// square root that this form does not pay; bench/memory_bench.cpp.)
 inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double y1, double y2,
-                        double y3, double correction, Vec3& mP, Quat& dq, Quat* axis) {
+                        double y3, double correction, Vec3& mP, Quat& dq) {
   const double dpsi = p.s * (p.lin - correction);
   double cz, sincz;
   cos_sinc(0.5 * dpsi, cz, sincz);
   const double sz = 0.5 * dpsi * sincz;
-
-  // The frames at both ends: (G + s m3, s m2, -s m1, 0), |.|^2 = 2 G (G + s m3). At the start m
-  // is rebuilt from the phase: s m1 = a cn, s m2 = s b sn, s m3 = c dn.
+  const double w0 = p.G + p.c * d0;
   const double w1 = p.G + p.s * y3;
-  Quat d;
-  if (axis != nullptr) {
-    // A reused plan: the start frame is the last step's end frame, carried; the end frame is
-    // normalised and carried on.
-    Quat p0 = *axis;
-    if (!(p0.w() > 0.0)) {
-      const double w0 = p.G + p.c * d0;
-      const double n0 = 1.0 / std::sqrt(2.0 * p.G * w0);
-      p0 = Quat(w0 * n0, p.s * p.b * s0 * n0, -p.a * c0 * n0, 0.0);
-    }
-    const double n1 = 1.0 / std::sqrt(2.0 * p.G * w1);
-    const Quat p1(w1 * n1, p.s * y2 * n1, -p.s * y1 * n1, 0.0);
-    *axis = p1;
-    // u = Rz(dpsi) * p1, with p1.z() == 0; d = p0^* u.
-    const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
-    d = p0.conjugate() * u;
-  } else {
-    // A plan used once: both frames unnormalised, one square root for both normalisations.
-    const double w0 = p.G + p.c * d0;
-    const Quat p0(w0, p.s * p.b * s0, -p.a * c0, 0.0);
-    const Quat p1(w1, p.s * y2, -p.s * y1, 0.0);
-    const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
-    d = p0.conjugate() * u;
-    d.coeffs() *= 1.0 / (2.0 * p.G * std::sqrt(w0 * w1));
-  }
+  const Quat p0(w0, p.s * p.b * s0, -p.a * c0, 0.0);
+  const Quat p1(w1, p.s * y2, -p.s * y1, 0.0);
+  // u = Rz(dpsi) * p1, with p1.z() == 0; d = p0^* u.
+  const Quat u(cz * p1.w(), cz * p1.x() - sz * p1.y(), cz * p1.y() + sz * p1.x(), sz * p1.w());
+  Quat d = p0.conjugate() * u;
+  d.coeffs() *= 1.0 / (2.0 * p.G * std::sqrt(w0 * w1));
   if (p.case_b) {
     // Back from case coordinates: m = (y3, -y2, y1); a rotation about v' is one about M v'.
     mP = Vec3(y3, -y2, y1);
@@ -263,8 +249,7 @@ inline Reduced reduced_integrals(const RotorPlan& p, double s, double c) {
 
 // The same step as advance_long, psi in closed form. The start phase is (s0, c0) on the curve,
 // the end phase tau0 + X.
-void advance_long_closed(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq,
-                         Quat* axis) {
+void advance_long_closed(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq) {
   // phi0 = j0 pi + phi_r with cos phi_r >= 0.
   const double j0 = c0 >= 0.0 ? 0.0 : (s0 >= 0.0 ? 1.0 : -1.0);
   const double r0s = c0 >= 0.0 ? s0 : -s0, r0c = std::abs(c0);
@@ -283,8 +268,7 @@ void advance_long_closed(const RotorPlan& p, double s0, double c0, double d0, Ve
   const double half_periods = dj * (std::numbers::pi / p.sq - 2.0 * p.cG * p.Jc);
   const double rest = dtheta / p.sq - p.cG * (r1.J - r0.J);
   const double correction = p.a > 0.0 ? p.isr * (half_periods + rest) : 0.0;
-  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, correction, mP, dq,
-              axis);
+  finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, correction, mP, dq);
 }
 
 }  // namespace
@@ -340,8 +324,7 @@ constexpr double kMaxPanels = 1e5;
 // separatrix: 2e-9 lost in one 4 s step of the racket flip), so the phase is taken explicitly,
 // tau0 = F(am | m), and the functions are evaluated at tau0 + x directly. psi: panels of width
 // <= kPanel with the 6-point rule.
-void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq,
-                  Quat* axis) {
+void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP, Quat& dq) {
   const double tau0 = elliptic_f(std::atan2(s0, c0), p.m, p.mc);
   double integral = 0.0;
   if (std::abs(p.X) <= kMaxPanels * kPanel) {
@@ -360,12 +343,12 @@ void advance_long(const RotorPlan& p, double s0, double c0, double d0, Vec3& mP,
   }
   const Jacobi e = jacobi(tau0 + p.X, p.m, p.mc);
   finish_step(p, s0, c0, d0, p.s * p.a * e.cn, p.b * e.sn, p.s * p.c * e.dn, p.abG2 * integral, mP,
-              dq, axis);
+              dq);
 }
 
 }  // namespace
 
-void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Quat* axis) {
+void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update) {
   if (p.still) {
     dq = Quat::Identity();
     return;
@@ -376,9 +359,9 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
   phase_of(p, x1, x2, x3, update == RotorUpdate::kIncrement, s0, c0, d0);
   if (p.n == 0) {
     if (p.closed) {
-      advance_long_closed(p, s0, c0, d0, mP, dq, axis);
+      advance_long_closed(p, s0, c0, d0, mP, dq);
     } else {
-      advance_long(p, s0, c0, d0, mP, dq, axis);
+      advance_long(p, s0, c0, d0, mP, dq);
     }
     return;
   }
@@ -403,7 +386,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
     const double cn1 = (c0 * p.C - s0 * d0 * p.S * p.D) * inv;
     const double dn1 = (d0 * p.D - p.mSC * sc0) * inv;
     finish_step(p, s0, c0, d0, p.s * p.a * cn1, p.b * sn1, p.s * p.c * dn1, p.abG2 * integral, mP,
-                dq, axis);
+                dq);
   } else {
     // The same theorem written for the departures sn1 - sn0, ..., each numerator made of small
     // terms only: C D - 1 + e = Cm1 + Dm1 + Cm1 Dm1 + e, with e = m sn0^2 S^2 = 1 - den.
@@ -412,7 +395,7 @@ void advance_rotor(const RotorPlan& p, Vec3& mP, Quat& dq, RotorUpdate update, Q
     const double dc = (c0 * (p.Cm1 + e) - s0 * d0 * p.S * p.D) * inv;
     const double dd = (d0 * (p.Dm1 + e) - p.mSC * sc0) * inv;
     finish_step(p, s0, c0, d0, x1 + p.s * p.a * dc, x2 + p.b * ds, x3 + p.s * p.c * dd,
-                p.abG2 * integral, mP, dq, axis);
+                p.abG2 * integral, mP, dq);
   }
 }
 

@@ -77,12 +77,8 @@ enum class RotorUpdate { kPinned, kIncrement };
 
 // Advances m_P by the planned step and returns the body-frame rotation increment dq:
 // q_WP(t + h) = q_WP(t) * dq. m_P must have the invariants the plan was made for.
-// `axis`, when given, carries the minimal rotation of m/G from one step to the next: a valid one
-// (w > 0) is taken as this step's start instead of being rebuilt from m (a square root and a
-// division saved), and the end-of-step one is written back. Set it to (0, 0, 0, 0) whenever m
-// was changed by anything else than this function.
 void advance_rotor(const RotorPlan& p, Vec3& m_P, Quat& dq,
-                   RotorUpdate update = RotorUpdate::kPinned, Quat* axis = nullptr);
+                   RotorUpdate update = RotorUpdate::kPinned);
 
 // One exact step of any length h, with a plan of its own (RotorUpdate::kIncrement).
 void free_rotor_step(const RotorInertia& J, Vec3& m_P, double h, Quat& dq);

@@ -70,13 +70,11 @@ inline void drift_cached(GenGroup& g, int i, double h) {
     make_rotor_plan(g.rotor_of(i), b.spin, h, plan);
     g.plan.set(i, plan);
     g.plan_ok[i] = 1;
-    g.axis[i] = AxisFrame{};
   } else {
     plan = g.plan.get(i);
   }
-  Quat dq, axis = g.axis[i].quat();
-  advance_rotor(plan, b.spin, dq, RotorUpdate::kPinned, &axis);
-  g.axis[i] = AxisFrame(axis);
+  Quat dq;
+  advance_rotor(plan, b.spin, dq, RotorUpdate::kPinned);
   b.q = b.q * dq;
   renormalize(b.q);
 }

@@ -238,16 +238,6 @@ struct AxiGroup : Group {
   Shared<Quat> q_BP;
 };
 
-// The end-of-step frame quaternion that advance_rotor carries from one step to the next
-// (free_rotor.cpp, finish_step): its z is 0 by construction, so it is kept as (w, x, y), 24 B
-// where a Quat takes 32. All zero: none carried (w > 0 for a valid one).
-struct AxisFrame {
-  double w = 0.0, x = 0.0, y = 0.0;
-  AxisFrame() = default;
-  explicit AxisFrame(const Quat& q) : w(q.w()), x(q.x()), y(q.y()) {}
-  Quat quat() const { return Quat(w, x, y, 0.0); }
-};
-
 struct GenGroup : Group {
   static constexpr int kIndex = 3;
   Shared<DiagRot> rot;
@@ -260,8 +250,6 @@ struct GenGroup : Group {
   const RotorInertia& rotor_of(int i) const { return rotors[rotor_of_rot[rot.of[i]]]; }
   RotorPlans plan;  // structure of arrays, as the lanes kernel reads them (rotor_plans.hpp)
   std::vector<std::uint8_t> plan_ok;
-  // The last step's end-of-step frame, the next step's start: see advance_rotor.
-  std::vector<AxisFrame> axis;
   Shared<Quat> q_BP;  // as AxiGroup::q_BP
 };
 

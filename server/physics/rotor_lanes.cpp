@@ -27,11 +27,6 @@ void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st) {
     st.qz[l] = mo.q.z();
     for (int k = 0; k < 3; ++k)
       st.m[k][l] = mo.spin[k];
-    const AxisFrame& ax = g.axis[first + l];
-    st.aw[l] = ax.w;
-    st.ax[l] = ax.x;
-    st.ay[l] = ax.y;
-    st.az[l] = 0.0;
   }
 }
 
@@ -41,7 +36,6 @@ void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g) {
     Motion& mo = g.motion[first + l];
     mo.q = Quat(st.qw[l], st.qx[l], st.qy[l], st.qz[l]);
     mo.spin = Vec3(st.m[0][l], st.m[1][l], st.m[2][l]);
-    g.axis[first + l] = AxisFrame(Quat(st.aw[l], st.ax[l], st.ay[l], st.az[l]));
   }
 }
 

@@ -1,5 +1,5 @@
 // The exact free rotor's cached step for general bodies (free_rotor.hpp: advance_rotor with a
-// plan, RotorUpdate::kPinned and the carried axis frame; then q <- q dq, renormalised), several
+// plan and RotorUpdate::kPinned; then q <- q dq, renormalised), several
 // bodies at once: hybrid4's quiet general bodies. The kernel (rotor_lanes_kernel.cpp) restates the
 // scalar code's arithmetic operation for operation, in its order (Eigen's SSE2 quaternion product
 // and sum of squares included), so each lane's result is bit for bit what advance_rotor and
@@ -36,14 +36,12 @@ constexpr unsigned kRotorFlagNodes = 7u;
 constexpr unsigned kRotorFlagCaseB = 8u;
 constexpr unsigned kRotorFlagStill = 16u;
 
-// Eight bodies' rotation state, component-major: q_WP, h_P, and the carried end-of-step axis
-// frame (GenGroup::axis).
+// Eight bodies' rotation state, component-major: q_WP, h_P.
 struct alignas(64) RotorStateLanes {
   static constexpr int kMax = RotorPlanLanes::kMax;
   using L = double[kMax];
   L qw, qx, qy, qz;
   L m[3];
-  L aw, ax, ay, az;
 };
 
 // Lanes [off, off + width) of the state and the plans (width: the kernel's), `flags` the block's

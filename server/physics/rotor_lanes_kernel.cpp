@@ -1,6 +1,6 @@
 // The exact free rotor's cached step over lanes of RIGID_LANE_WIDTH general bodies (see
-// rotor_lanes.hpp). Every line restates free_rotor.cpp's advance_rotor (RotorUpdate::kPinned, the
-// axis frame carried: case_coords, phase_of, the addition theorem, finish_step) and
+// rotor_lanes.hpp). Every line restates free_rotor.cpp's advance_rotor (RotorUpdate::kPinned:
+// case_coords, phase_of, the addition theorem, finish_step) and
 // integrate_exact.cpp's drift_cached (q <- q dq, renormalize) with the same operations in the same
 // order; the parenthesised groupings below are the ones C++ and Eigen evaluate there. Change one
 // side and the other with it: lanes_test's Lanes.FreeBodiesStepBitForBitAsTheScalarCode compares
@@ -45,11 +45,11 @@ inline void renormalize_eigen(Q& q) {
   q = out;
 }
 
-// 1 / sqrt(x) per lane, as the scalar code writes it (IEEE sqrt and division: exact per lane).
-inline V inv_sqrt(V x) {
+// sqrt(x) per lane, as the scalar code writes it (IEEE sqrt: exact per lane).
+inline V sqrt(V x) {
   V r;
   for (int l = 0; l < W; ++l)
-    r[l] = 1.0 / std::sqrt(x[l]);
+    r[l] = std::sqrt(x[l]);
   return r;
 }
 
@@ -121,28 +121,19 @@ void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned cha
   const V y1 = s * a * cn1, y2 = bb * sn1, y3 = s * c * dn1;
   const V correction = abG2 * integral;
 
-  // finish_step with the axis frame carried.
+  // finish_step: both frames unnormalised, d scaled once.
   const V dpsi = s * (lin - correction);
   V cz, sincz;
   cos_sinc(0.5 * dpsi, cz, sincz);
   const V sz = 0.5 * dpsi * sincz;
+  const V w0 = G + c * d0;
   const V w1 = G + s * y3;
-  Q p0{load(st.aw + off), load(st.ax + off), load(st.ay + off), load(st.az + off)};
-  if (const Mask rebuild = ~(p0.w > 0.0); any(rebuild)) {
-    const V w0 = G + c * d0;
-    const V n0 = inv_sqrt(2.0 * G * w0);
-    const Q fresh{w0 * n0, s * bb * s0 * n0, -a * c0 * n0, splat(0.0)};
-    p0 = {select(rebuild, fresh.w, p0.w), select(rebuild, fresh.x, p0.x),
-          select(rebuild, fresh.y, p0.y), select(rebuild, fresh.z, p0.z)};
-  }
-  const V n1 = inv_sqrt(2.0 * G * w1);
-  const Q p1{w1 * n1, s * y2 * n1, -s * y1 * n1, splat(0.0)};
+  const Q p0{w0, s * bb * s0, -a * c0, splat(0.0)};
+  const Q p1{w1, s * y2, -s * y1, splat(0.0)};
   const Q u{cz * p1.w, cz * p1.x - sz * p1.y, cz * p1.y + sz * p1.x, sz * p1.w};
-  const Q d = mul_eigen(conj(p0), u);
-  store(st.aw + off, p1.w);
-  store(st.ax + off, p1.x);
-  store(st.ay + off, p1.y);
-  store(st.az + off, p1.z);
+  Q d = mul_eigen(conj(p0), u);
+  const V scale = 1.0 / (2.0 * G * sqrt(w0 * w1));
+  d = {d.w * scale, d.x * scale, d.y * scale, d.z * scale};
   // Back from case coordinates.
   const V3 m1{select(case_b, y3, y1), select(case_b, -y2, y2), select(case_b, y1, y3)};
   const Q dq{d.w, select(case_b, d.z, d.x), select(case_b, -d.y, d.y), select(case_b, d.x, d.z)};

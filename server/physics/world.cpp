@@ -498,7 +498,6 @@ void World::Impl::compile(const WorldSpec& spec) {
         diag_rots[1].push_back(diag);
         model.gen.plan.push_back();
         model.gen.plan_ok.push_back(0);
-        model.gen.axis.emplace_back();
         rots_BP[1].push_back(q_BP);
         break;
     }
@@ -624,7 +623,7 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
     case BodyModel::kGeneral:
       sw(model.gen.rot.of), sw(model.gen.plan_ok);
       model.gen.plan.swap(a, b);
-      sw(model.gen.axis), sw(model.gen.q_BP.of);
+      sw(model.gen.q_BP.of);
       break;
   }
   slot[g.id[a]].index = a;
