@@ -119,6 +119,7 @@ void plan_core(const RotorInertia& J, const Vec3& mP, double h, RotorPlan& p, do
   // is the physical one, the distance of the motion from the separatrix.
   p.mc = std::max(0.0, (x3 * x3 - q * x1 * x1) * ic2);
   const double two_t = x1 * x1 * ij1 + x2 * x2 * ij2 + x3 * x3 * ij3;
+  p.iG = iG;
   p.lin = two_t * h * iG;
   p.abG2 = p.a * p.b * iG * iG;
   p.cG = p.c * iG;

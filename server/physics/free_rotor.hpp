@@ -48,7 +48,8 @@ struct RotorPlan {
   double s = 1;         // sign of the momentum component on the case's stable axis
   double a = 0, b = 0, c = 0, ia = 0, ib = 0, ic = 0, cn_bias = 0;
   double m = 0, mc = 1;                          // parameter k^2 and its complement k'^2 = 1 - k^2
-  double G = 0, lin = 0, abG2 = 0, cG = 0;       // |m|, 2T h / G, a b / G^2, c / G
+  double G = 0, iG = 0, lin = 0;                 // |m|, 1 / |m|, 2T h / G
+  double abG2 = 0, cG = 0;                       // a b / G^2, c / G
   double S = 0, C = 1, D = 1, mS2 = 0, mSC = 0;  // sn, cn, dn of X = lambda h; m S^2; m S C
   double Cm1 = 0, Dm1 = 0;                       // C - 1, D - 1 to full relative accuracy
   double X = 0;                                  // phase increment lambda h

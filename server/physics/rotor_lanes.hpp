@@ -14,27 +14,29 @@
 
 namespace rigid::physics::detail {
 
-// Eight plans' fields as the kernel reads them, component-major: RotorPlan's sign, amplitudes,
-// phase constants, its phase increment X and the psi integral's quadrature values at up to four
+// Eight plans' fields as the kernel reads them, component-major: RotorPlan's amplitudes, phase
+// constants, 1/G, its phase increment X and the psi integral's quadrature values at up to four
 // nodes. k2 is RotorPlan::m. What the kernel needs of each plan besides (its node count, its case,
-// whether it is still) is a byte an entry beside the block (RotorPlans::flags, kRotorFlag* below):
-// 28 lines of 64 B, 224 B an entry. The quadrature weights X w_i / 2 are not kept: the kernel
-// makes them from X and the rule of n nodes (gauss_legendre.hpp), in the operations
-// make_rotor_plan makes them in, to the same bits. Nor is what the plan derives from these by
-// products alone (cn_bias, mS2, mSC: free_rotor.cpp, plan_core): the kernel derives it again.
+// its sign s, whether it is still) is a byte an entry beside the block (RotorPlans::flags,
+// kRotorFlag* below): 26 lines of 64 B, 208 B an entry. The quadrature weights X w_i / 2 are not
+// kept: the kernel makes them from X and the rule of n nodes (gauss_legendre.hpp), in the
+// operations make_rotor_plan makes them in, to the same bits. Nor is what the plan derives from
+// these by products alone (cn_bias, mS2, mSC, and cG = c / G, abG2 = a b / G^2 from 1/G:
+// free_rotor.cpp, plan_core): the kernel derives it again, to the same bits.
 struct alignas(64) RotorPlanLanes {
   static constexpr int kMax = 8;
   static constexpr int kNodes = 4;  // RotorPlan's quadrature nodes at most
   using L = double[kMax];
-  L s, ia, ib, k2, mc, cG, C, D, S, a, b, c, lin, abG2, G, X;
+  L ia, ib, k2, mc, C, D, S, a, b, c, lin, iG, G, X;
   L Dn[kNodes], mS2n[kNodes], mSCn[kNodes];
 };
 
 // A plan's flags byte: its quadrature node count (RotorPlan::n, 0 to 4: 0 is a long step, with no
-// nodes), its case (RotorPlan::case_b) and RotorPlan::still.
+// nodes), its case (RotorPlan::case_b), RotorPlan::still, and its sign (RotorPlan::s, 1 or -1).
 constexpr unsigned kRotorFlagNodes = 7u;
 constexpr unsigned kRotorFlagCaseB = 8u;
 constexpr unsigned kRotorFlagStill = 16u;
+constexpr unsigned kRotorFlagNegative = 32u;  // s = -1
 
 // Eight bodies' rotation state, component-major: q_WP, h_P.
 struct alignas(64) RotorStateLanes {

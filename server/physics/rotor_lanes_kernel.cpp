@@ -63,11 +63,14 @@ void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned cha
   const Mask fl = __builtin_convertvector(fb, Mask);
   const Mask case_b = (fl & kRotorFlagCaseB) != 0;
   const Mask nodes = fl & kRotorFlagNodes;
-  const V s = load(p.s + off), ia = load(p.ia + off), ib = load(p.ib + off);
-  const V k2 = load(p.k2 + off), mc = load(p.mc + off), cG = load(p.cG + off);
+  const V s = select((fl & kRotorFlagNegative) != 0, splat(-1.0), splat(1.0));
+  const V ia = load(p.ia + off), ib = load(p.ib + off);
+  const V k2 = load(p.k2 + off), mc = load(p.mc + off);
   const V C = load(p.C + off), D = load(p.D + off), S = load(p.S + off);
-  const V a = load(p.a + off), bb = load(p.b + off), c = load(p.c + off), lin = load(p.lin + off),
-          abG2 = load(p.abG2 + off);
+  const V a = load(p.a + off), bb = load(p.b + off), c = load(p.c + off), lin = load(p.lin + off);
+  // As plan_core makes them from 1/G: cG = c / G, abG2 = a b / G^2.
+  const V iG = load(p.iG + off);
+  const V cG = c * iG, abG2 = a * bb * iG * iG;
   // As plan_core makes them: cn_bias = (a > 0 ? 0 : 1), mS2 = m sn sn, mSC = m sn C.
   const V cn_bias = select(a > 0.0, splat(0.0), splat(1.0));
   const V mS2 = k2 * S * S, mSC = k2 * S * C;

@@ -38,7 +38,7 @@ RotorPlan RotorPlans::get(int i) const {
   RotorPlan p;
   p.still = (f & kRotorFlagStill) != 0;
   p.case_b = (f & kRotorFlagCaseB) != 0;
-  p.s = L.s[l];
+  p.s = (f & kRotorFlagNegative) != 0 ? -1.0 : 1.0;
   p.a = L.a[l];
   p.b = L.b[l];
   p.c = L.c[l];
@@ -49,9 +49,10 @@ RotorPlan RotorPlans::get(int i) const {
   p.m = L.k2[l];
   p.mc = L.mc[l];
   p.G = L.G[l];
+  p.iG = L.iG[l];
   p.lin = L.lin[l];
-  p.abG2 = L.abG2[l];
-  p.cG = L.cG[l];
+  p.abG2 = p.a * p.b * p.iG * p.iG;  // as plan_core makes them
+  p.cG = p.c * p.iG;
   p.S = L.S[l];
   p.C = L.C[l];
   p.D = L.D[l];
@@ -91,8 +92,7 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   // n is 0 or a rule's node count (make_rotor_plan); kRotorRule has one for each n > 0 kept.
   flags_[static_cast<std::size_t>(i)] = static_cast<unsigned char>(
       (static_cast<unsigned>(p.n) & kRotorFlagNodes) | (p.case_b ? kRotorFlagCaseB : 0u) |
-      (p.still ? kRotorFlagStill : 0u));
-  L.s[l] = p.s;
+      (p.still ? kRotorFlagStill : 0u) | (p.s < 0.0 ? kRotorFlagNegative : 0u));
   L.a[l] = p.a;
   L.b[l] = p.b;
   L.c[l] = p.c;
@@ -101,9 +101,8 @@ void RotorPlans::set(int i, const RotorPlan& p) {
   L.k2[l] = p.m;
   L.mc[l] = p.mc;
   L.G[l] = p.G;
+  L.iG[l] = p.iG;
   L.lin[l] = p.lin;
-  L.abG2[l] = p.abG2;
-  L.cG[l] = p.cG;
   L.S[l] = p.S;
   L.C[l] = p.C;
   L.D[l] = p.D;

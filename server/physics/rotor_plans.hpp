@@ -6,15 +6,16 @@
 // (perf record on step_bench's racket case: the copy 23%, the kernel 42%).
 //
 // A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
-// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 224 B an
-// entry and a flags byte (node count, case, still), where the whole RotorPlan took 398
+// drift_cached, and the kernel), so the store keeps what that reads and nothing else: 208 B an
+// entry and a flags byte (node count, case, still, sign), where the whole RotorPlan took 398
 // (bench/memory_bench.cpp; issue 13's budget of 500 B a body). What RotorUpdate::kIncrement
 // alone reads (ic, Cm1, Dm1) is not kept: get gives NaN there; what plan_core derives by products
-// alone (cn_bias, mS2, mSC) get derives again, and the quadrature weights w_i = X w_i(rule) / 2
-// too, from X and the rule of n nodes (gauss_legendre.hpp), as make_rotor_plan does. A long step
-// (no quadrature nodes) keeps its closed-form constants (q, isr, sq, qm3, K, Jc, closed) in the
-// node slots it does not use; a short step reads none of them, and get gives NaN for them, as for
-// the nodes past n. advance_rotor(get(i), ..., kPinned) steps bit for bit as with the plan set.
+// alone (cn_bias, mS2, mSC, cG, abG2) get derives again, and the quadrature weights w_i = X
+// w_i(rule) / 2 too, from X and the rule of n nodes (gauss_legendre.hpp), as make_rotor_plan does.
+// A long step (no quadrature nodes) keeps its closed-form constants (q, isr, sq, qm3, K, Jc,
+// closed) in the node slots it does not use; a short step reads none of them, and get gives NaN for
+// them, as for the nodes past n. advance_rotor(get(i), ..., kPinned) steps bit for bit as with the
+// plan set.
 #pragma once
 
 #include <cstddef>
@@ -71,10 +72,10 @@ class RotorPlans {
   }
 
  private:
-  static_assert(sizeof(RotorPlanLanes) == 28 * 64, "224 B an entry");
+  static_assert(sizeof(RotorPlanLanes) == 26 * 64, "208 B an entry");
   std::vector<RotorPlanLanes> blocks_;
-  std::vector<unsigned char>
-      flags_;  // an entry's flags, kBlock to a block (all of a block's exist)
+  // An entry's flags byte, kBlock to a block (those of a block's entries not yet pushed: 0).
+  std::vector<unsigned char> flags_;
   int size_ = 0;
 };
 

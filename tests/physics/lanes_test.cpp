@@ -135,7 +135,7 @@ TEST(Hybrid4Lanes, ABodyAloneStepsAsInABatch) {
 // Free bodies of every model (general, isotropic, axisymmetric, point masses: i % 4), with what
 // a quiet body may carry: gravity, linear drag, a force at its centre of mass; slow and fast spins
 // (a fast one takes the free rotor's long step, which stays scalar; general bodies at three rates,
-// one per quadrature rule of a cached plan). Gravity and drag come in
+// one per quadrature rule of a cached plan, and both ways). Gravity and drag come in
 // runs (of 10 bodies of a model), so that the translation kernel takes runs of bodies sharing
 // their parameters whole and breaks them where they change; one point mass carries a
 // body-fixed force (its group's loaded run). 23 isotropic bodies: a remainder after fours.
@@ -156,6 +156,8 @@ WorldSpec free_bodies(int n, const std::string& integrator) {
                         : i / 4 % 3 == 1 ? 20.0
                                          : 60.0;
     BodySpec b = body("f" + std::to_string(i), I, {1e-3 + e, spin, 1e-3});
+    // Every other general body spins the other way: plans of both signs s in every block.
+    if (i % 8 == 4) b.w_WB = -b.w_WB;
     b.has_inertia = i % 4 != 3;
     b.use_gravity = i / 40 % 2 == 0;
     if (i >= 60 && i < 70) b.linear_drag = 0.3;
@@ -371,7 +373,7 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
     EXPECT_EQ((f & physics::detail::kRotorFlagStill) != 0, made[i].still);
     EXPECT_EQ(static_cast<int>(f & physics::detail::kRotorFlagNodes), made[i].n);
     EXPECT_EQ(bits(L.k2[l]), bits(made[i].m));
-    EXPECT_EQ(bits(L.cG[l]), bits(made[i].cG));
+    EXPECT_EQ(bits(L.iG[l]), bits(made[i].iG));
     EXPECT_EQ(bits(L.X[l]), bits(made[i].X));
     if (made[i].n == 4) {
       EXPECT_EQ(bits(L.mSCn[3][l]), bits(made[i].mSCn[3]));
