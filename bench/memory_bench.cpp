@@ -4,7 +4,12 @@
 // WorldSpec is built before the first reading and kept alive, so neither counts it. Each model
 // runs in its own child process, so that memory freed by one is not reused by the next.
 //
-//   build/bench/memory_bench [--bodies 1000000] [--models general,isotropic,...]
+//   build/bench/memory_bench [--bodies 1000000] [--models general,isotropic,...] [--distinct]
+//
+// The worlds are bench/model_worlds.cpp's: bodies of one kind, at the origin, whose initial spins
+// take 1000 values. --distinct gives each body its own position and initial velocities, so that
+// nothing of its initial state can be shared (World keeps an initial orientation and velocities
+// once per distinct value): the worst case.
 //
 // Output: one line per model, "RESULT memory <model> rss_bytes_per_body X heap_bytes_per_body Y".
 #include <sys/wait.h>
@@ -27,16 +32,24 @@ using rigid::bench::rss_bytes;
 using rigid::physics::World;
 using rigid::physics::WorldSpec;
 
-int measure(const std::string& model, int n) {
-  const WorldSpec spec = rigid::bench::make_model_world(*rigid::bench::find_model(model), n);
+int measure(const std::string& model, int n, bool distinct) {
+  WorldSpec spec = rigid::bench::make_model_world(*rigid::bench::find_model(model), n);
+  if (distinct) {
+    for (int i = 0; i < n; ++i) {
+      auto& b = spec.bodies[static_cast<std::size_t>(i)];
+      b.p_WBo = rigid::physics::Vec3(i, 0, 0);
+      b.v_WBo.y() += 1e-9 * i;
+      b.w_WB.y() += 1e-9 * i;
+    }
+  }
   const double rss0 = rss_bytes(), heap0 = heap_bytes();
   World w(spec);
   const double heap = heap_bytes() - heap0;
   // Steps touch the caches built lazily (rotor plans) and, at the 64th, the guard's copies.
   w.step(World::kGuardEvery);
   const double rss = rss_bytes() - rss0;
-  std::printf("RESULT memory %s rss_bytes_per_body %.1f heap_bytes_per_body %.1f bodies %d\n",
-              model.c_str(), rss / n, heap / n, n);
+  std::printf("RESULT memory %s%s rss_bytes_per_body %.1f heap_bytes_per_body %.1f bodies %d\n",
+              model.c_str(), distinct ? "_distinct" : "", rss / n, heap / n, n);
   std::fflush(stdout);
   return 0;
 }
@@ -45,6 +58,7 @@ int measure(const std::string& model, int n) {
 
 int main(int argc, char** argv) {
   int bodies = 1'000'000;
+  bool distinct = false;
   std::vector<std::string> models;
   for (const auto& m : rigid::bench::all_models())
     models.emplace_back(m.name);
@@ -67,9 +81,11 @@ int main(int argc, char** argv) {
         }
         models.push_back(m);
       }
+    } else if (a == "--distinct") {
+      distinct = true;
     } else {
       std::cerr << "usage: memory_bench [--bodies N] [--models general,isotropic,axisymmetric,"
-                   "point,general_forced]\n";
+                   "point,general_forced] [--distinct]\n";
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
@@ -79,7 +95,7 @@ int main(int argc, char** argv) {
       std::perror("memory_bench: fork");
       return 1;
     }
-    if (child == 0) _exit(measure(m, bodies));
+    if (child == 0) _exit(measure(m, bodies, distinct));
     int status = 0;
     if (waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
       std::cerr << "memory_bench: the run for '" << m << "' failed\n";

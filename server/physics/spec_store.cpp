@@ -16,6 +16,12 @@ struct ParamsKey {
   auto operator<=>(const ParamsKey&) const = default;
 };
 
+// An initial orientation and velocities compared by their bits, as ParamsKey.
+struct StartKey {
+  std::array<std::uint64_t, 10> bits{};
+  auto operator<=>(const StartKey&) const = default;
+};
+
 ParamsKey key_of(const SpecStore::Params& p) {
   ParamsKey k;
   k.bits[0] = std::bit_cast<std::uint64_t>(p.mass);
@@ -40,27 +46,49 @@ SpecStore::SpecStore(const std::vector<BodySpec>& bodies) {
     chars += b.name.size();
   names_.reserve(chars);
   name_end_.reserve(n);
-  initial_.reserve(n);
+  p_.reserve(n);
+  const auto start_of = [](const BodySpec& b) {
+    Start s;
+    const Quat q = b.q_WB.normalized();
+    s.q[0] = q.w(), s.q[1] = q.x(), s.q[2] = q.y(), s.q[3] = q.z();
+    for (int a = 0; a < 3; ++a) {
+      s.v[a] = b.v_WBo[a];
+      s.w[a] = b.w_WB[a];
+    }
+    return s;
+  };
+  // Interned one after the other, so that only one key array is alive at a time.
+  {
+    std::vector<StartKey> keys;
+    keys.reserve(n);
+    for (const BodySpec& b : bodies) {
+      names_ += b.name;
+      name_end_.push_back(static_cast<std::uint32_t>(names_.size()));  // World bounds the total
+      p_.push_back({b.p_WBo.x(), b.p_WBo.y(), b.p_WBo.z()});
+      const Start s = start_of(b);
+      StartKey k;
+      for (int a = 0; a < 4; ++a)
+        k.bits[a] = std::bit_cast<std::uint64_t>(s.q[a]);
+      for (int a = 0; a < 3; ++a) {
+        k.bits[4 + a] = std::bit_cast<std::uint64_t>(s.v[a]);
+        k.bits[7 + a] = std::bit_cast<std::uint64_t>(s.w[a]);
+      }
+      keys.push_back(k);
+    }
+    std::vector<std::int32_t> first;
+    intern(keys, start_of_, first);
+    starts_.reserve(first.size());
+    for (const std::int32_t f : first)
+      starts_.push_back(start_of(bodies[f]));
+  }
   const auto params_of = [](const BodySpec& b) {
     return Params{b.mass,        b.I_B,       b.linear_drag,        b.angular_drag,   b.has_inertia,
                   b.use_gravity, b.kinematic, b.freeze_translation, b.freeze_rotation};
   };
   std::vector<ParamsKey> keys;
   keys.reserve(n);
-  for (const BodySpec& b : bodies) {
-    names_ += b.name;
-    name_end_.push_back(names_.size());
-    Initial s;
-    for (int a = 0; a < 3; ++a) {
-      s.p[a] = b.p_WBo[a];
-      s.v[a] = b.v_WBo[a];
-      s.w[a] = b.w_WB[a];
-    }
-    const Quat q = b.q_WB.normalized();
-    s.q[0] = q.w(), s.q[1] = q.x(), s.q[2] = q.y(), s.q[3] = q.z();
-    initial_.push_back(s);
+  for (const BodySpec& b : bodies)
     keys.push_back(key_of(params_of(b)));
-  }
   std::vector<std::int32_t> first;
   intern(keys, params_of_, first);
   params_.reserve(first.size());

@@ -53,10 +53,22 @@ namespace {
 // tensor given with round-off noise still compiles to the cheaper exact model.
 constexpr double kEqualMoments = 1e-12;
 
-struct Slot {
-  BodyModel model = BodyModel::kPoint;
-  int index = 0;
+// Where a body's entry is: its model and its index in that model's group, packed in 4 B (a world
+// of 10^6 bodies pays for each byte a million times); World bounds the bodies to kMaxBodies.
+class Slot {
+ public:
+  Slot() = default;
+  Slot(BodyModel m, int index) : bits_(static_cast<std::uint32_t>(index) << 2 | code(m)) {}
+  BodyModel model() const { return static_cast<BodyModel>(bits_ & 3u); }
+  int index() const { return static_cast<int>(bits_ >> 2); }
+  void set_index(int index) { bits_ = (bits_ & 3u) | static_cast<std::uint32_t>(index) << 2; }
+
+ private:
+  static std::uint32_t code(BodyModel m) { return static_cast<std::uint32_t>(m); }
+  std::uint32_t bits_ = 0;
 };
+static_assert(static_cast<int>(BodyModel::kGeneral) == 3, "Slot keeps a model in two bits");
+static_assert(World::kMaxBodies <= (1 << 30), "Slot keeps an index in 30 bits");
 
 std::string fmt(double x) {
   std::ostringstream os;
@@ -169,8 +181,8 @@ struct World::Impl {
   // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
   Quat rot_BP(int id) const {
     const Slot& s = slot[id];
-    if (s.model == BodyModel::kAxisymmetric) return model.axi.q_BP(s.index);
-    if (s.model == BodyModel::kGeneral) return model.gen.q_BP(s.index);
+    if (s.model() == BodyModel::kAxisymmetric) return model.axi.q_BP(s.index());
+    if (s.model() == BodyModel::kGeneral) return model.gen.q_BP(s.index());
     return Quat::Identity();
   }
   // A copied vector keeps its elements but not its capacity: what stepping relies on having
@@ -218,12 +230,12 @@ struct World::Impl {
     return model.gen;
   }
   const Group& group(BodyModel m) const { return const_cast<Impl*>(this)->group(m); }
-  Motion& motion(int id) { return group(slot[id].model).motion[slot[id].index]; }
-  const Motion& motion(int id) const { return group(slot[id].model).motion[slot[id].index]; }
-  detail::LoadsRef load(int id) const { return group(slot[id].model).load(slot[id].index); }
-  Loads load_value(int id) const { return group(slot[id].model).load_value(slot[id].index); }
-  void set_loads(int id, const Loads& v) { group(slot[id].model).set_load(slot[id].index, v); }
-  const Linear& linear(int id) const { return group(slot[id].model).linear(slot[id].index); }
+  Motion& motion(int id) { return group(slot[id].model()).motion[slot[id].index()]; }
+  const Motion& motion(int id) const { return group(slot[id].model()).motion[slot[id].index()]; }
+  detail::LoadsRef load(int id) const { return group(slot[id].model()).load(slot[id].index()); }
+  Loads load_value(int id) const { return group(slot[id].model()).load_value(slot[id].index()); }
+  void set_loads(int id, const Loads& v) { group(slot[id].model()).set_load(slot[id].index(), v); }
+  const Linear& linear(int id) const { return group(slot[id].model()).linear(slot[id].index()); }
   void invalidate_cache(int id);
   void set_state(int id, const BodyState& s);
   void apply_pending_impulses();
@@ -330,7 +342,20 @@ void validate_body(const BodySpec& b, int i) {
 }  // namespace
 
 void World::Impl::compile(const WorldSpec& spec) {
+  if (spec.bodies.size() > static_cast<std::size_t>(kMaxBodies)) {
+    throw SpecError(-1, "bodies",
+                    "world: at most " + std::to_string(kMaxBodies) + " bodies, got " +
+                        std::to_string(spec.bodies.size()));
+  }
   const int n = static_cast<int>(spec.bodies.size());
+  std::uint64_t name_bytes = 0;
+  for (const BodySpec& b : spec.bodies)
+    name_bytes += b.name.size();
+  if (name_bytes > detail::SpecStore::kMaxNameBytes) {
+    throw SpecError(-1, "name",
+                    "world: the bodies' names take " + std::to_string(name_bytes) +
+                        " bytes, more than " + std::to_string(detail::SpecStore::kMaxNameBytes));
+  }
   if (!(std::isfinite(spec.dt) && spec.dt > 0.0)) {
     throw SpecError(-1, "dt",
                     "world: dt (the physics step) must be finite and > 0, got " + fmt(spec.dt));
@@ -535,7 +560,7 @@ void World::Impl::compile(const WorldSpec& spec) {
 
   const auto has_drag = [&](int i) {
     const BodySpec& b = spec.bodies[i];
-    return b.angular_drag > 0.0 && !b.kinematic && slot[i].model != BodyModel::kPoint;
+    return b.angular_drag > 0.0 && !b.kinematic && slot[i].model() != BodyModel::kPoint;
   };
   base_ids.clear();
   for (int i = 0; i < n; ++i) {
@@ -626,24 +651,24 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
       sw(model.gen.q_BP.of);
       break;
   }
-  slot[g.id[a]].index = a;
-  slot[g.id[b]].index = b;
+  slot[g.id[a]].set_index(a);
+  slot[g.id[b]].set_index(b);
 }
 
 // Puts a body in the run of its group that its loads call for: a swap with the boundary entry.
 void World::Impl::place(int id) {
   const Slot s = slot[id];
-  Group& g = group(s.model);
-  const bool quiet = g.load(s.index).quiet();
-  if (quiet == (s.index < g.quiet_end)) return;
+  Group& g = group(s.model());
+  const bool quiet = g.load(s.index()).quiet();
+  if (quiet == (s.index() < g.quiet_end)) return;
   // Only this body crosses the boundary (the entry it swaps with stays in its run).
-  if (Group::pushed(g.loads[s.index].f_W)) g.quiet_pushed += quiet ? 1 : -1;
+  if (Group::pushed(g.loads[s.index()].f_W)) g.quiet_pushed += quiet ? 1 : -1;
   if (quiet) {
-    swap_entries(s.model, s.index, g.quiet_end);
+    swap_entries(s.model(), s.index(), g.quiet_end);
     ++g.quiet_end;
   } else {
     --g.quiet_end;
-    swap_entries(s.model, s.index, g.quiet_end);
+    swap_entries(s.model(), s.index(), g.quiet_end);
   }
 }
 
@@ -755,9 +780,9 @@ void World::Impl::freeze(int id) {
   m.v.setZero();
   m.spin.setZero();
   const Slot& s = slot[id];
-  Group& g = group(s.model);
-  frozen_lin.push_back(g.linear.of[s.index]);  // within the reserved capacity
-  g.linear.of[s.index] = 0;                    // no gravity, no force, no drag
+  Group& g = group(s.model());
+  frozen_lin.push_back(g.linear.of[s.index()]);  // within the reserved capacity
+  g.linear.of[s.index()] = 0;                    // no gravity, no force, no drag
   const bool was_quiet = load(id).quiet();
   set_loads(id, Loads{});
   loads_changed(id, was_quiet);
@@ -774,7 +799,7 @@ void World::Impl::thaw_all() {
   for (std::size_t k = 0; k < frozen_ids.size(); ++k) {
     const int id = frozen_ids[k];
     const Slot& s = slot[id];
-    group(s.model).linear.of[s.index] = frozen_lin[k];
+    group(s.model()).linear.of[s.index()] = frozen_lin[k];
     frozen[id] = 0;
   }
   frozen_ids.clear();
@@ -789,15 +814,15 @@ void World::Impl::check_id(int id) const {
 
 void World::Impl::invalidate_cache(int id) {
   const Slot& s = slot[id];
-  switch (s.model) {
+  switch (s.model()) {
     case BodyModel::kIsotropic:
-      model.iso.dq_ok[s.index] = 0;
+      model.iso.dq_ok[s.index()] = 0;
       break;
     case BodyModel::kAxisymmetric:
-      model.axi.plan_ok[s.index] = 0;
+      model.axi.plan_ok[s.index()] = 0;
       break;
     case BodyModel::kGeneral:
-      model.gen.plan_ok[s.index] = 0;
+      model.gen.plan_ok[s.index()] = 0;
       break;
     case BodyModel::kPoint:
       break;
@@ -813,24 +838,24 @@ void World::Impl::set_state(int id, const BodyState& st) {
     if (b.freeze_translation[a] && !b.kinematic) m.v[a] = 0.0;
   }
   const Slot& s = slot[id];
-  if (s.model == BodyModel::kPoint) {
+  if (s.model() == BodyModel::kPoint) {
     // A point mass keeps its orientation and never turns.
     m.q = st.q_WB.normalized();
     m.spin.setZero();
   } else {
     m.q = (st.q_WB.normalized() * rot_BP(id)).normalized();
     const Vec3 w_P = m.q.conjugate() * st.w_WB;
-    switch (s.model) {
+    switch (s.model()) {
       case BodyModel::kIsotropic: {
-        const IsoRot& r = model.iso.rot(s.index);
+        const IsoRot& r = model.iso.rot(s.index());
         m.spin = r.hinge != 0.0 ? Vec3(r.axis * r.axis.dot(w_P)) : w_P;
         break;
       }
       case BodyModel::kAxisymmetric:
-        m.spin = model.axi.rot(s.index).spin_of(w_P);
+        m.spin = model.axi.rot(s.index()).spin_of(w_P);
         break;
       case BodyModel::kGeneral:
-        m.spin = model.gen.rot(s.index).spin_of(w_P);
+        m.spin = model.gen.rot(s.index()).spin_of(w_P);
         break;
       case BodyModel::kPoint:
         break;
@@ -843,19 +868,19 @@ void World::Impl::apply_pending_impulses() {
   for (const Pending& p : pending) {
     const int id = p.id;
     const Slot& s = slot[id];
-    Group& g = group(s.model);
-    Motion& m = g.motion[s.index];
-    m.v += g.linear(s.index).inv_m.cwiseProduct(p.J);
+    Group& g = group(s.model());
+    Motion& m = g.motion[s.index()];
+    m.v += g.linear(s.index()).inv_m.cwiseProduct(p.J);
     const Vec3 dL_P = m.q.conjugate() * p.L;
-    switch (s.model) {
+    switch (s.model()) {
       case BodyModel::kIsotropic:
-        m.spin += model.iso.rot(s.index).spin_rate(dL_P);
+        m.spin += model.iso.rot(s.index()).spin_rate(dL_P);
         break;
       case BodyModel::kAxisymmetric:
-        m.spin += model.axi.rot(s.index).spin_rate(dL_P);
+        m.spin += model.axi.rot(s.index()).spin_rate(dL_P);
         break;
       case BodyModel::kGeneral:
-        m.spin += model.gen.rot(s.index).spin_rate(dL_P);
+        m.spin += model.gen.rot(s.index()).spin_rate(dL_P);
         break;
       case BodyModel::kPoint:
         break;
@@ -869,11 +894,11 @@ void World::Impl::apply_pending_impulses() {
 Vec3 World::Impl::angular_momentum_P(int id) const {
   const Slot& s = slot[id];
   const Motion& m = motion(id);
-  switch (s.model) {
+  switch (s.model()) {
     case BodyModel::kPoint:
       return Vec3::Zero();
     case BodyModel::kIsotropic: {
-      const IsoRot& r = model.iso.rot(s.index);
+      const IsoRot& r = model.iso.rot(s.index());
       // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
       if (r.inv_I == 0.0) return specs.params(id).I_B * m.spin;
       return m.spin / r.inv_I;
@@ -888,15 +913,15 @@ Vec3 World::Impl::angular_momentum_P(int id) const {
 Vec3 World::Impl::omega_P(int id) const {
   const Slot& s = slot[id];
   const Motion& m = motion(id);
-  switch (s.model) {
+  switch (s.model()) {
     case BodyModel::kPoint:
       return Vec3::Zero();
     case BodyModel::kIsotropic:
-      return model.iso.rot(s.index).omega(m.spin);
+      return model.iso.rot(s.index()).omega(m.spin);
     case BodyModel::kAxisymmetric:
-      return model.axi.rot(s.index).omega(m.spin);
+      return model.axi.rot(s.index()).omega(m.spin);
     case BodyModel::kGeneral:
-      return model.gen.rot(s.index).omega(m.spin);
+      return model.gen.rot(s.index()).omega(m.spin);
   }
   return Vec3::Zero();
 }
@@ -1011,25 +1036,25 @@ std::string_view World::body_name(int id) const {
 }
 BodyModel World::body_model(int id) const {
   impl_->check_id(id);
-  return impl_->slot[id].model;
+  return impl_->slot[id].model();
 }
 Vec3 World::principal_moments(int id) const {
   impl_->check_id(id);
   // Not stored: the model's own moments, or the spec's for a kinematic body (no inertia in use).
   const Impl& w = *impl_;
   const Slot& s = w.slot[id];
-  switch (s.model) {
+  switch (s.model()) {
     case BodyModel::kPoint:
       break;
     case BodyModel::kIsotropic: {
-      const double inv_I = w.model.iso.rot(s.index).inv_I;
+      const double inv_I = w.model.iso.rot(s.index()).inv_I;
       return inv_I > 0 ? Vec3::Constant(1.0 / inv_I)
                        : principal_inertia(w.specs.params(id).I_B).moments;
     }
     case BodyModel::kAxisymmetric:
-      return w.model.axi.rot(s.index).I;
+      return w.model.axi.rot(s.index()).I;
     case BodyModel::kGeneral:
-      return w.model.gen.rot(s.index).I;
+      return w.model.gen.rot(s.index()).I;
   }
   return Vec3::Zero();
 }
@@ -1044,7 +1069,7 @@ BodyState World::state(int id) const {
   BodyState s;
   s.p_WBo = m.x;
   s.v_WBo = m.v;
-  if (impl_->slot[id].model == BodyModel::kPoint) {
+  if (impl_->slot[id].model() == BodyModel::kPoint) {
     s.q_WB = m.q;
     s.w_WB.setZero();
   } else {

@@ -70,6 +70,9 @@ std::string_view to_string(BodyModel m);
 
 class World {
  public:
+  // The most bodies a world may have (SpecError on "bodies" beyond): 2^30, ~500 GB of bodies.
+  static constexpr int kMaxBodies = 1 << 30;
+
   // Validates the spec and compiles it. Throws SpecError naming the field and value at fault.
   explicit World(const WorldSpec& spec);
   ~World();

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "allocation_counter.hpp"
+#include "physics/spec_store.hpp"
 #include "test_util.hpp"
 
 namespace rigid::test {
@@ -507,9 +508,12 @@ TEST(WorldCold, BodySpecGivesBackEveryBodyAsGiven) {
     b.freeze_rotation = i % 19 == 0 ? std::array<bool, 3>{true, true, false}
                                     : std::array<bool, 3>{false, false, false};
     b.p_WBo = Vec3(i, -2.0 * i, 1e-300 * i);
-    b.q_WB = Quat(Eigen::AngleAxisd(0.05 * i, Vec3(1, -1, 2).normalized()));
-    b.v_WBo = Vec3(0.5 * i, 0, -1);
-    b.w_WB = Vec3(0, 0.25 * i, 3);
+    // Every fourth body starts its own way; the rest share one of six starts (the world keeps
+    // each distinct start once), two of which differ only in the sign of a zero.
+    const int k = i % 4 == 0 ? i : i % 3;
+    b.q_WB = Quat(Eigen::AngleAxisd(0.05 * k, Vec3(1, -1, 2).normalized()));
+    b.v_WBo = Vec3(0.5 * k, i % 2 == 0 ? 0.0 : -0.0, -1);
+    b.w_WB = Vec3(0, 0.25 * k, 3);
     ws.bodies.push_back(b);
   }
   const World w(ws);
@@ -538,6 +542,24 @@ TEST(WorldCold, BodySpecGivesBackEveryBodyAsGiven) {
     const Quat q = in.q_WB.normalized();
     for (int k = 0; k < 4; ++k)
       EXPECT_EQ(bits(out.q_WB.coeffs()[k]), bits(q.coeffs()[k]));
+  }
+  // Equal starts are kept once: k = 0, 1, 2 with +0 or -0 (six), and the fourteen of i = 4, 8,
+  // ..., 56 (i = 0 starts as the bodies with k = 0 and +0 do).
+  EXPECT_EQ(physics::detail::SpecStore(ws.bodies).distinct_starts(), 20);
+  // reset() puts every body back where a new world starts it, to the bit.
+  World stepped(ws);
+  stepped.step(10);
+  stepped.reset();
+  for (int i = 0; i < w.body_count(); ++i) {
+    const BodyState a = stepped.state(i), b = w.state(i);
+    SCOPED_TRACE(ws.bodies[i].name);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(bits(a.p_WBo[k]), bits(b.p_WBo[k]));
+      EXPECT_EQ(bits(a.v_WBo[k]), bits(b.v_WBo[k]));
+      EXPECT_EQ(bits(a.w_WB[k]), bits(b.w_WB[k]));
+    }
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(bits(a.q_WB.coeffs()[k]), bits(b.q_WB.coeffs()[k]));
   }
 }
 
