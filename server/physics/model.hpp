@@ -113,12 +113,16 @@ struct Group {
   // bodies point).
   Shared<Linear> linear;
   // Spec loads + applied loads, in P (loads.hpp: LoadHead): per entry the head, and the terms of
-  // the entries that have any in a pool, entry 0 all zero. The pool's capacity is reserved for
-  // every body when the world is built (reserve_terms), so that giving a body terms while stepping
-  // never allocates; capacity never used is never touched, so it takes no memory.
+  // the entries that have any in a pool, entry 0 all zero. Entries [1, shared_end) are the
+  // scene's own loads' terms, once per distinct value (World::Impl::base_loads), shared read-only
+  // by every body whose loads are its scene's (a scene's thrusters are usually alike: 10^6 of them
+  // pay for one); a body given other loads takes an entry of its own. The pool's capacity is
+  // reserved for every body when the world is built (reserve_terms), so that giving a body terms
+  // while stepping never allocates; capacity never used is never touched, so it takes no memory.
   std::vector<LoadHead> loads;
   std::vector<LoadTerms> terms;
-  std::vector<std::int32_t> free_terms;  // pool entries given back, capacity reserved
+  std::int32_t shared_end = 1;
+  std::vector<std::int32_t> free_terms;  // own entries given back, capacity reserved
   int size() const { return static_cast<int>(id.size()); }
 
   LoadsRef load(int i) const {
@@ -136,21 +140,20 @@ struct Group {
     v.fr = r.fr;
     return v;
   }
-  // Stores v as entry i's loads: its terms take a pool entry if they are not all zero, and give it
-  // back otherwise. Allocation-free once reserve_terms has run.
-  void set_load(int i, const Loads& v) {
+  // Stores v as entry i's loads: its terms take a pool entry of its own if they are not all zero,
+  // and give it back otherwise; or, with `shared` (an entry of [1, shared_end) that holds exactly
+  // v's terms: add_shared_terms), point at that entry. Allocation-free once reserve_terms has run.
+  void set_load(int i, const Loads& v, std::int32_t shared = 0) {
     LoadHead& h = loads[i];
     if (i < quiet_end) quiet_pushed += int{pushed(v.f_W)} - int{pushed(h.f_W)};
     h.flags = v.flags;
     h.f_W = v.f_W;
-    if ((v.flags & LoadFlags::kTerms) == 0) {
-      if (h.terms != 0) {
-        free_terms.push_back(h.terms);
-        h.terms = 0;
-      }
+    if ((v.flags & LoadFlags::kTerms) == 0 || shared != 0) {
+      if (h.terms >= shared_end) free_terms.push_back(h.terms);
+      h.terms = (v.flags & LoadFlags::kTerms) == 0 ? 0 : shared;
       return;
     }
-    if (h.terms == 0) {
+    if (h.terms < shared_end) {  // none, or shared: never written through
       if (free_terms.empty()) {
         h.terms = static_cast<std::int32_t>(terms.size());
         terms.emplace_back();
@@ -172,10 +175,18 @@ struct Group {
     std::memcpy(bits, f_W.data(), sizeof bits);
     return (bits[0] | bits[1] | bits[2]) != 0;
   }
-  // Capacity for every entry to have terms at once (and the shared zero entry).
+  // A shared entry holding v's terms, for set_load's `shared`: made while the world is built,
+  // before reserve_terms (all of them before any body's own entry).
+  std::int32_t add_shared_terms(const Loads& v) {
+    if (terms.empty()) terms.emplace_back();
+    terms.push_back(LoadTerms{.f_P = v.f_P, .tau_P = v.tau_P, .tau_W = v.tau_W, .fr = v.fr});
+    shared_end = static_cast<std::int32_t>(terms.size());
+    return shared_end - 1;
+  }
+  // Capacity for every entry to have terms of its own at once (besides the zero and shared ones).
   void reserve_terms() {
     if (terms.empty()) terms.emplace_back();
-    terms.reserve(id.size() + 1);
+    terms.reserve(id.size() + static_cast<std::size_t>(shared_end));
     free_terms.reserve(id.size());
   }
 };

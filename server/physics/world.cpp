@@ -123,6 +123,9 @@ struct World::Impl {
   std::vector<int> base_ids;
   std::vector<std::int32_t> base_of;
   std::vector<Loads> base_loads;
+  // Per base_loads entry, the shared entry of its terms in its bodies' group's pool (Group::terms;
+  // 0: it has none). An entry's bodies are all of one model.
+  std::vector<std::int32_t> base_terms;
   // Impulses waiting for the next step: per body the index of its entry in `pending` or -1, the
   // entries in order of arrival (capacity reserved for every body, so that apply_impulse never
   // allocates; untouched capacity is never resident).
@@ -173,10 +176,18 @@ struct World::Impl {
   } pool;
 
   void compile(const WorldSpec& spec);
-  const Loads& base_load(int id) const {
-    static const Loads kNone{};
+  // Body id's entry in base_loads, or -1: it has no loads of its own in the scene.
+  int base_index(int id) const {
     const auto it = std::lower_bound(base_ids.begin(), base_ids.end(), id);
-    return it != base_ids.end() && *it == id ? base_loads[base_of[it - base_ids.begin()]] : kNone;
+    return it != base_ids.end() && *it == id ? base_of[it - base_ids.begin()] : -1;
+  }
+  // Body id's loads back to the scene's (base_loads entry b, or none: -1), its terms shared.
+  void set_base_loads(int id, int b) {
+    if (b < 0) {
+      set_loads(id, Loads{});
+    } else {
+      set_loads(id, base_loads[b], base_terms[b]);
+    }
   }
   // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
   Quat rot_BP(int id) const {
@@ -234,7 +245,9 @@ struct World::Impl {
   const Motion& motion(int id) const { return group(slot[id].model()).motion[slot[id].index()]; }
   detail::LoadsRef load(int id) const { return group(slot[id].model()).load(slot[id].index()); }
   Loads load_value(int id) const { return group(slot[id].model()).load_value(slot[id].index()); }
-  void set_loads(int id, const Loads& v) { group(slot[id].model()).set_load(slot[id].index(), v); }
+  void set_loads(int id, const Loads& v, std::int32_t shared_terms = 0) {
+    group(slot[id].model()).set_load(slot[id].index(), v, shared_terms);
+  }
   const Linear& linear(int id) const { return group(slot[id].model()).linear(slot[id].index()); }
   void invalidate_cache(int id);
   void set_state(int id, const BodyState& s);
@@ -269,6 +282,7 @@ Key key_of(const IsoRot& r) {
 struct LoadsKey {
   std::array<std::uint64_t, 21> bits{};
   std::uint32_t flags = 0;
+  int model = 0;  // equal loads on bodies of two models are two entries (each group's pool)
   auto operator<=>(const LoadsKey&) const = default;
 };
 LoadsKey key_of(const Loads& l) {
@@ -596,13 +610,20 @@ void World::Impl::compile(const WorldSpec& spec) {
   {
     std::vector<LoadsKey> keys;
     keys.reserve(values.size());
-    for (const Loads& v : values)
-      keys.push_back(key_of(v));
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      keys.push_back(key_of(values[k]));
+      keys.back().model = static_cast<int>(slot[base_ids[k]].model());
+    }
     std::vector<std::int32_t> first;
     detail::intern(keys, base_of, first);
     base_loads.clear();
-    for (const std::int32_t f : first)
+    base_terms.clear();
+    for (const std::int32_t f : first) {
       base_loads.push_back(values[f]);
+      const bool terms = (values[f].flags & Loads::kTerms) != 0;
+      base_terms.push_back(terms ? group(slot[base_ids[f]].model()).add_shared_terms(values[f])
+                                 : 0);
+    }
   }
   values = {};
   // A large world's scratch (the per-model lists, the interning's keys and indices, the
@@ -614,7 +635,7 @@ void World::Impl::compile(const WorldSpec& spec) {
   if (n >= kTrimBodies) malloc_trim(0);
   reserve_scratch();
   for (std::size_t k = 0; k < base_ids.size(); ++k)
-    set_loads(base_ids[k], base_loads[base_of[k]]);
+    set_base_loads(base_ids[k], base_of[k]);
   last_good.resize(n);
   for (int i = 0; i < n; ++i)
     last_good[i] = Pose(motion(i).q, motion(i).x);
@@ -1187,13 +1208,12 @@ void World::reset() {
 
 void World::clear_applied() {
   Impl& w = *impl_;
-  static const Loads kNone{};
   std::size_t k = 0;  // walks base_ids, ascending like i
   for (int i = 0; i < body_count(); ++i) {
     const bool has_base = k < w.base_ids.size() && w.base_ids[k] == i;
-    const Loads& base = has_base ? w.base_loads[w.base_of[k++]] : kNone;
+    const int b = has_base ? w.base_of[k++] : -1;
     const bool was_quiet = w.load(i).quiet();
-    w.set_loads(i, w.frozen[i] ? Loads{} : base);
+    w.set_base_loads(i, w.frozen[i] ? -1 : b);
     w.loads_changed(i, was_quiet);
   }
 }
@@ -1201,7 +1221,7 @@ void World::clear_applied() {
 void World::clear_applied(int id) {
   impl_->check_id(id);
   const bool was_quiet = impl_->load(id).quiet();
-  impl_->set_loads(id, impl_->frozen[id] ? Loads{} : impl_->base_load(id));
+  impl_->set_base_loads(id, impl_->frozen[id] ? -1 : impl_->base_index(id));
   impl_->loads_changed(id, was_quiet);
 }
 
