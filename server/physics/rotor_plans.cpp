@@ -1,5 +1,6 @@
 #include "physics/rotor_plans.hpp"
 
+#include <cassert>
 #include <limits>
 #include <utility>
 
@@ -62,6 +63,8 @@ RotorPlan RotorPlans::get(int i) const {
   p.Dm1 = kNaN;
   p.X = L.X[l];
   p.n = static_cast<int>(f & kRotorFlagNodes);
+  // set keeps n as make_rotor_plan gives it: 0 or the node count of a rule of kRotorRule.
+  assert(p.n == 0 || (p.n >= 2 && p.n <= RotorPlanLanes::kNodes && kRotorRule[p.n] != nullptr));
   for (int k = 0; k < RotorPlanLanes::kNodes; ++k)
     p.w[k] = p.Dn[k] = p.mS2n[k] = p.mSCn[k] = kNaN;
   if (p.n > 0) {

@@ -3,7 +3,11 @@
 // and without drag, slow and fast (the series and the libm branches mixed inside one batch), and a
 // run whose length is no multiple of any width (padded batches); a body steps to the same bits
 // alone as in a batch with others; free bodies step bit for bit as the scalar code steps them
-// (RIGID_LANES=1), loaded ones to its round-off.
+// (RIGID_LANES=1), loaded ones to its round-off; plans moved by a regroup too. The store of the
+// general bodies' plans (rotor_plans.hpp) gives back what the pinned step reads, of either sign,
+// its blocks are ready exactly when all their entries are, and general bodies stepped by the
+// kernel match the independent long-double reference (not merely the scalar code, which reads
+// the same store).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -149,12 +153,14 @@ WorldSpec free_bodies(int n, const std::string& integrator) {
                    : i % 4 == 1 ? Vec3(0.4, 0.4, 0.4)
                                 : Vec3(1, 1, 1.8);
     // General bodies at 5, 20 and 60 rad/s, mixed in every block: the cached plans' 2-, 3- and
-    // 4-node rules (|X| = 0.003, 0.012, 0.035 at 1 ms).
-    const double spin = i % 8 == 1       ? 400.0
-                        : i % 4 != 0     ? 5.0
-                        : i / 4 % 3 == 0 ? 5.0
-                        : i / 4 % 3 == 1 ? 20.0
-                                         : 60.0;
+    // 4-node rules (|X| = 0.003, 0.012, 0.035 at 1 ms); one (the second block's fourth) at
+    // 400 rad/s, a long step (no nodes), whose block the kernel must leave to the scalar code
+    // (block_ready), while the first block steps in the kernel.
+    const double spin = i % 8 == 1 || i == 44 ? 400.0
+                        : i % 4 != 0          ? 5.0
+                        : i / 4 % 3 == 0      ? 5.0
+                        : i / 4 % 3 == 1      ? 20.0
+                                              : 60.0;
     BodySpec b = body("f" + std::to_string(i), I, {1e-3 + e, spin, 1e-3});
     // Every other general body spins the other way: plans of both signs s in every block.
     if (i % 8 == 4) b.w_WB = -b.w_WB;
@@ -338,9 +344,13 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
   for (int i = 0; i < 29; ++i) {
     // Momenta about each axis (case a and b), near the separatrix, and zero; steps from 1 ms to
     // 30 s (long steps: no nodes), and 20 ms (four nodes).
-    const Vec3 m = i == 7 ? Vec3::Zero()
-                          : Vec3(0.3 + 0.1 * (i % 3), (i % 2 ? 5.0 : 0.2) + 0.01 * i,
-                                 (i % 2 ? 0.1 : 4.0) - 0.003 * i);
+    Vec3 m = i == 7 ? Vec3::Zero()
+                    : Vec3(0.3 + 0.1 * (i % 3), (i % 2 ? 5.0 : 0.2) + 0.01 * i,
+                           (i % 2 ? 0.1 : 4.0) - 0.003 * i);
+    // Both signs s = sign(m3) of the polhode (free_rotor.cpp): every other plan's momentum turned
+    // round, or its third component alone.
+    if (i % 3 == 1) m = -m;
+    if (i % 3 == 2) m.z() = -m.z();
     const double h = i % 4 == 3 ? 30.0 : i % 6 == 5 ? 0.02 : 1e-3 * (1 + i % 5);
     RotorPlan p;
     physics::make_rotor_plan(J, m, h, p);
@@ -354,6 +364,13 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
   for (int n : {2, 3, 4})  // each rule's weights
     ASSERT_TRUE(std::any_of(made.begin(), made.end(), [n](auto& p) { return p.n == n; })) << n;
   ASSERT_TRUE(std::any_of(made.begin(), made.end(), [](auto& p) { return p.still; }));
+  for (double s : {-1.0, 1.0}) {
+    for (bool long_step : {true, false})  // long steps and short ones of either sign
+      ASSERT_TRUE(
+          std::any_of(made.begin(), made.end(),
+                      [&](auto& p) { return !p.still && p.s == s && (p.n == 0) == long_step; }))
+          << s << " " << long_step;
+  }
 
   RotorPlans store;
   for (std::size_t i = 0; i < made.size(); ++i)
@@ -372,6 +389,9 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
     EXPECT_EQ((f & physics::detail::kRotorFlagCaseB) != 0, made[i].case_b);
     EXPECT_EQ((f & physics::detail::kRotorFlagStill) != 0, made[i].still);
     EXPECT_EQ(static_cast<int>(f & physics::detail::kRotorFlagNodes), made[i].n);
+    if (!made[i].still) {
+      EXPECT_EQ((f & physics::detail::kRotorFlagNegative) != 0, made[i].s < 0.0);
+    }
     EXPECT_EQ(bits(L.k2[l]), bits(made[i].m));
     EXPECT_EQ(bits(L.iG[l]), bits(made[i].iG));
     EXPECT_EQ(bits(L.X[l]), bits(made[i].X));
@@ -390,6 +410,138 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
     EXPECT_TRUE(steps_alike(store.get(static_cast<int>(i)), made[i], from[i]))
         << "after swaps, entry " << i;
   }
+}
+
+// block_ready says in one pass over a block's flags what lane_ready says of each of its eight
+// entries: short steps of every rule (2, 3 and 4 nodes: flags bits 0b010, 0b011, 0b100) are
+// ready; one long step (no nodes) or one still plan keeps its whole block out of the kernel.
+TEST(RotorPlans, ABlockIsReadyWhenEveryEntryIs) {
+  using physics::RotorPlan;
+  using physics::detail::RotorPlans;
+  const physics::RotorInertia J(Vec3(1.0, 2.0, 3.0));
+  const auto plan = [&](const Vec3& m, double h) {
+    RotorPlan p;
+    physics::make_rotor_plan(J, m, h, p);
+    return p;
+  };
+  const Vec3 m(0.3, 5.0, -0.2);
+  // At 1 ms, 5 ms and 20 ms this momentum's plans take 2, 3 and 4 nodes; at 30 s none.
+  const RotorPlan two = plan(m, 1e-3), three = plan(m, 5e-3), four = plan(m, 2e-2);
+  const RotorPlan long_step = plan(m, 30.0), still = plan(Vec3::Zero(), 1e-3);
+  ASSERT_EQ(two.n, 2);
+  ASSERT_EQ(three.n, 3);
+  ASSERT_EQ(four.n, 4);
+  ASSERT_EQ(long_step.n, 0);
+  ASSERT_FALSE(long_step.still);
+  ASSERT_TRUE(still.still);
+  const RotorPlan* ready[3] = {&two, &three, &four};
+  RotorPlans store;
+  std::vector<bool> expect;
+  // Per block: every entry ready, then one entry made a long step or still, in each lane in turn.
+  const int blocks = 1 + 2 * RotorPlans::kBlock;
+  for (int b = 0; b < blocks; ++b) {
+    bool all = true;
+    for (int l = 0; l < RotorPlans::kBlock; ++l) {
+      const int i = store.size();
+      store.push_back();
+      const RotorPlan* p = ready[(b + l) % 3];
+      if (b > 0 && (b - 1) % RotorPlans::kBlock == l)
+        p = b <= RotorPlans::kBlock ? &long_step : &still;
+      store.set(i, *p);
+      all = all && store.lane_ready(i);
+    }
+    expect.push_back(all);
+  }
+  EXPECT_TRUE(expect[0]);
+  for (int b = 0; b < blocks; ++b) {
+    EXPECT_EQ(store.block_ready(b), expect[static_cast<std::size_t>(b)]) << "block " << b;
+    if (b > 0) {
+      EXPECT_FALSE(expect[static_cast<std::size_t>(b)]) << "block " << b;
+    }
+  }
+}
+
+// General bodies stepped by the lanes kernel in full blocks (16 alike but for their spins'
+// signs and sizes: both signs s of the polhode in every block, and a pure spin) against the
+// independent long-double reference: what the store keeps of a plan and the kernel reads of it is
+// checked against physics, not against the same store read by the scalar code.
+TEST(Lanes, GeneralBodiesOfEitherSignMatchTheReference) {
+  WorldSpec ws;
+  ws.dt = 1e-3;
+  ws.integrator = "hybrid4";
+  const Vec3 I(1.0, 2.0, 3.0);
+  std::vector<Vec3> w0;
+  for (int i = 0; i < 2 * physics::detail::RotorPlans::kBlock; ++i) {
+    // Case a (about the axis of greatest inertia) and case b (least), at 1 to 8 rad/s.
+    Vec3 w = i % 2 == 0 ? Vec3(0.3, 0.2, 2.0 + 0.5 * (i / 2)) : Vec3(2.0 + 0.5 * (i / 2), 0.2, 0.3);
+    if (i % 4 >= 2) w.z() = -w.z();
+    if (i % 8 >= 4) w = -w;
+    // A pure spin about the axis of greatest inertia in each block (a = 0: cn_bias = 1).
+    if (i % 8 == 5) w = Vec3(0.0, 0.0, i < 8 ? 3.0 : -3.0);
+    w0.push_back(w);
+    ws.bodies.push_back(body("g" + std::to_string(i), I, w));
+  }
+  World w(ws);
+  const double T = 0.5;
+  w.step(static_cast<int>(std::lround(T / ws.dt)));
+  for (std::size_t i = 0; i < w0.size(); ++i) {
+    const int id = static_cast<int>(i);
+    ASSERT_EQ(w.body_model(id), physics::BodyModel::kGeneral);
+    const RefState ref = free_reference(I, w0[i], T, 20000);
+    const Quat q_ref = to_double(ref.q);
+    const Vec3 w_ref_W = q_ref * to_double(ref.w);
+    EXPECT_LT(angle_between(w.state(id).q_WB, q_ref), 1e-11) << "body " << i;
+    EXPECT_LT((w.state(id).w_WB - w_ref_W).norm(), 1e-11 * w_ref_W.norm()) << "body " << i;
+  }
+}
+
+// Bodies that leave the quiet run and come back (a controller pushes them, then lets go) swap
+// their cached plans with others (World's regroup: RotorPlans::swap, through get and set), which
+// leaves NaN in the nodes past n of the plans moved: the kernel must step blocks mixing 2-, 3-
+// and 4-node plans so moved exactly as the scalar code does, which reads only n nodes.
+TEST(Lanes, PlansMovedByARegroupStepBitForBitAsTheScalarCode) {
+  const WorldSpec ws = free_bodies(90, "hybrid4");
+  static constexpr int kPushed[] = {0, 8, 16, 36, 52};
+  const auto go = [&] {
+    World w(ws);
+    w.step(50);
+    for (int k = 0; k < 60; ++k) {
+      // General bodies (i % 4 == 0) pushed at a lever in turns, some for a step, some for many.
+      for (int id : kPushed) {
+        if (k % (id / 4 + 2) == 0) w.add_force(id, {0.0, 0.3, 1.0}, {0.2, 0.0, 0.1}, Frame::kBody);
+        if (k % (id / 4 + 2) == 1) w.clear_applied(id);
+      }
+      w.step();
+    }
+    w.clear_applied();
+    w.step(200);
+    std::vector<BodyState> out;
+    for (int i = 0; i < w.body_count(); ++i)
+      out.push_back(w.state(i));
+    return out;
+  };
+  std::vector<std::pair<int, std::vector<BodyState>>> widths;
+  for (const char* width : {"8", "4", "2"}) {
+    const LanesEnv env(width);
+    widths.emplace_back(physics::detail::pick_lane_width(), go());
+  }
+  const LanesEnv env("1");
+  const std::vector<BodyState> scalar = go();
+  for (const auto& [width, lanes] : widths) {
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      if (std::count(std::begin(kPushed), std::end(kPushed), static_cast<int>(i)) == 0) {
+        EXPECT_TRUE(same_bits(lanes[i], scalar[i])) << "width " << width << ", body " << i;
+      } else {
+        // While pushed, a body steps in the loaded kernel: the scalar code's round-off.
+        EXPECT_LT(angle_between(lanes[i].q_WB, scalar[i].q_WB), 1e-12)
+            << "width " << width << ", body " << i;
+        EXPECT_LT((lanes[i].w_WB - scalar[i].w_WB).norm(), 1e-12 * scalar[i].w_WB.norm())
+            << "width " << width << ", body " << i;
+      }
+    }
+  }
+  for (const BodyState& s : scalar)
+    EXPECT_TRUE(s.q_WB.coeffs().allFinite() && s.w_WB.allFinite());
 }
 
 }  // namespace
