@@ -176,20 +176,33 @@ WorldSpec free_bodies(int n, const std::string& integrator) {
   return ws;
 }
 
+// The states `go` gives at each kernel width this CPU runs (RIGID_LANES=8, 4, 2; a width it
+// cannot run falls back to a narrower one: the width taken is given beside them), and with the
+// scalar code (RIGID_LANES=1).
+struct ByWidth {
+  std::vector<std::pair<int, std::vector<BodyState>>> lanes;
+  std::vector<BodyState> scalar;
+};
+template <class Go>
+ByWidth by_width(const Go& go) {
+  ByWidth r;
+  for (const char* w : {"8", "4", "2"}) {
+    const LanesEnv env(w);
+    r.lanes.emplace_back(physics::detail::pick_lane_width(), go());
+  }
+  const LanesEnv env("1");
+  EXPECT_EQ(physics::detail::pick_lane_width(), 1);
+  r.scalar = go();
+  return r;
+}
+
 TEST(Lanes, FreeBodiesStepBitForBitAsTheScalarCode) {
   for (const char* integrator : {"hybrid4", "exact_rotor4", "exact_rotor"}) {
     const WorldSpec ws = free_bodies(90, integrator);
-    std::vector<std::pair<int, std::vector<BodyState>>> widths;
-    for (const char* w : {"8", "4", "2"}) {
-      const LanesEnv env(w);
-      widths.emplace_back(physics::detail::pick_lane_width(), run(ws, 500));
-    }
-    const LanesEnv env("1");
-    ASSERT_EQ(physics::detail::pick_lane_width(), 1);
-    const std::vector<BodyState> scalar = run(ws, 500);
-    for (const auto& [width, lanes] : widths) {
+    const ByWidth r = by_width([&] { return run(ws, 500); });
+    for (const auto& [width, lanes] : r.lanes) {
       for (std::size_t i = 0; i < lanes.size(); ++i)
-        EXPECT_TRUE(same_bits(lanes[i], scalar[i]))
+        EXPECT_TRUE(same_bits(lanes[i], r.scalar[i]))
             << integrator << ", width " << width << ", body " << i;
     }
   }
@@ -231,18 +244,13 @@ TEST(Lanes, ForcesInWThatComeAndGoOnQuietBodiesAreNeverMissed) {
       out.push_back(w.state(i));
     return out;
   };
-  std::vector<std::pair<int, std::vector<BodyState>>> widths;
-  for (const char* w : {"8", "4", "2"}) {
-    const LanesEnv env(w);
-    widths.emplace_back(physics::detail::pick_lane_width(), run_pushed());
-  }
-  const LanesEnv env("1");
-  const std::vector<BodyState> scalar = run_pushed();
+  const ByWidth r = by_width(run_pushed);
+  const std::vector<BodyState>& scalar = r.scalar;
   // The forces acted: the pushed bodies left their free twins' velocities (2-3 N on 1 kg for
   // 0.13-0.2 s: ~0.3-0.6 m/s).
   EXPECT_GT((scalar[kSphere].v_WBo - scalar[kSphere - 2].v_WBo).norm(), 0.1);
   EXPECT_GT((scalar[kPoint].v_WBo - scalar[kPoint - 2].v_WBo).norm(), 0.1);
-  for (const auto& [width, lanes] : widths) {
+  for (const auto& [width, lanes] : r.lanes) {
     for (std::size_t i = 0; i < lanes.size(); ++i)
       EXPECT_TRUE(same_bits(lanes[i], scalar[i])) << "width " << width << ", body " << i;
   }
@@ -347,8 +355,8 @@ TEST(RotorPlans, StoreWhatThePinnedStepReadsBitForBit) {
     Vec3 m = i == 7 ? Vec3::Zero()
                     : Vec3(0.3 + 0.1 * (i % 3), (i % 2 ? 5.0 : 0.2) + 0.01 * i,
                            (i % 2 ? 0.1 : 4.0) - 0.003 * i);
-    // Both signs s = sign(m3) of the polhode (free_rotor.cpp): every other plan's momentum turned
-    // round, or its third component alone.
+    // Both signs s = sign(m3) of the polhode (free_rotor.cpp): a third of the momenta turned
+    // round, another third only in their third component.
     if (i % 3 == 1) m = -m;
     if (i % 3 == 2) m.z() = -m.z();
     const double h = i % 4 == 3 ? 30.0 : i % 6 == 5 ? 0.02 : 1e-3 * (1 + i % 5);
@@ -520,14 +528,9 @@ TEST(Lanes, PlansMovedByARegroupStepBitForBitAsTheScalarCode) {
       out.push_back(w.state(i));
     return out;
   };
-  std::vector<std::pair<int, std::vector<BodyState>>> widths;
-  for (const char* width : {"8", "4", "2"}) {
-    const LanesEnv env(width);
-    widths.emplace_back(physics::detail::pick_lane_width(), go());
-  }
-  const LanesEnv env("1");
-  const std::vector<BodyState> scalar = go();
-  for (const auto& [width, lanes] : widths) {
+  const ByWidth r = by_width(go);
+  const std::vector<BodyState>& scalar = r.scalar;
+  for (const auto& [width, lanes] : r.lanes) {
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       if (std::count(std::begin(kPushed), std::end(kPushed), static_cast<int>(i)) == 0) {
         EXPECT_TRUE(same_bits(lanes[i], scalar[i])) << "width " << width << ", body " << i;
