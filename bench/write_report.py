@@ -23,7 +23,8 @@ def header(results, mode, metas):
     if os.path.exists(os.path.join(results, "tree.txt")):
         with open(os.path.join(results, "tree.txt")) as f:
             tree = f.read().strip()
-    meta = next((m for m in metas if m), {})
+    # Every distinct provenance: parts run again later (--parts) carry their own.
+    provs = list(dict.fromkeys(provenance(m) for m in metas if m)) or [provenance({})]
     total = sum(fnum(p["seconds"]) for p in parts)
     flagged = [p["part"] for p in parts if fnum(p["other_cores"]) > PERTURBED]
     lines = [
@@ -33,8 +34,7 @@ def header(results, mode, metas):
         f"({mode} run, {total / 60:.1f} minutes of measurement and build). Every figure carries "
         "the machine, compiler, flags and date of the data it shows; they are:",
         "",
-        f"> {provenance(meta)}",
-        "",
+        *[line for p in provs for line in (f"> {p}", "")],
         f"Source tree: {tree}.",
         "",
         "The parts of this run, with the CPU that *other* work used meanwhile (all the machine's "
