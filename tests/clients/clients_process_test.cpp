@@ -263,7 +263,8 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
   // the last, but for a few that best-effort delivery (keep-last 1) may lose on a loaded machine
   // (CI running tests side by side). Ticks, not wall time: where the host wakes rigidd late, it
   // skips the slots missed (loop/fixed_rate_schedule.hpp), and 2 s then hold fewer than 2000
-  // ticks (a disturbed 2-core VM's bare timer missed 3% of its 1 ms deadlines: 187 states seen).
+  // ticks (runs with 187 and 189 states were seen on a 2-core VM whose bare timer was missing 3%
+  // of its 1 ms deadlines at the time; the message below says which it was, next time).
   // At most 100 Hz for as long as it listened (the edges may add one); the states' stamps span
   // that time, to the line's rounding (0.05 s) and a state's period.
   const std::string seen = "ticks " + std::to_string(first_tick) + ".." +
