@@ -250,7 +250,10 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
     if (rec.has_state()) {
       ++states;
       EXPECT_EQ(rec.state().tick() % 10, 0);
-      if (first_ns < 0) first_ns = rec.state().recorded_ns(), first_tick = rec.state().tick();
+      if (first_ns < 0) {
+        first_ns = rec.state().recorded_ns();
+        first_tick = rec.state().tick();
+      }
       last_ns = rec.state().recorded_ns();
       last_tick = rec.state().tick();
     }

@@ -75,6 +75,14 @@ WorldSpec loaded(int n, bool stable = false) {
   return ws;
 }
 
+// Every body's state, by id.
+std::vector<BodyState> states(const World& w) {
+  std::vector<BodyState> out;
+  for (int i = 0; i < w.body_count(); ++i)
+    out.push_back(w.state(i));
+  return out;
+}
+
 // Steps ws; halfway, an impulse on body `kick` if >= 0 (the cached plans and runs change).
 std::vector<BodyState> run(const WorldSpec& ws, int steps, int kick = -1) {
   World w(ws);
@@ -82,10 +90,7 @@ std::vector<BodyState> run(const WorldSpec& ws, int steps, int kick = -1) {
     if (k == steps / 2 && kick >= 0) w.apply_impulse(kick, {0, 0, 0.1}, {0.1, 0, 0}, Frame::kBody);
     w.step();
   }
-  std::vector<BodyState> out;
-  for (int i = 0; i < w.body_count(); ++i)
-    out.push_back(w.state(i));
-  return out;
+  return states(w);
 }
 
 bool same_bits(const BodyState& a, const BodyState& b) {
@@ -239,10 +244,7 @@ TEST(Lanes, ForcesInWThatComeAndGoOnQuietBodiesAreNeverMissed) {
       if (k == 300) w.clear_applied(kSphere);
       w.step();
     }
-    std::vector<BodyState> out;
-    for (int i = 0; i < w.body_count(); ++i)
-      out.push_back(w.state(i));
-    return out;
+    return states(w);
   };
   const ByWidth r = by_width(run_pushed);
   const std::vector<BodyState>& scalar = r.scalar;
@@ -523,10 +525,7 @@ TEST(Lanes, PlansMovedByARegroupStepBitForBitAsTheScalarCode) {
     }
     w.clear_applied();
     w.step(200);
-    std::vector<BodyState> out;
-    for (int i = 0; i < w.body_count(); ++i)
-      out.push_back(w.state(i));
-    return out;
+    return states(w);
   };
   const ByWidth r = by_width(go);
   const std::vector<BodyState>& scalar = r.scalar;
