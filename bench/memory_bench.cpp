@@ -45,7 +45,7 @@ int measure(const std::string& model, int n, bool distinct) {
   const double rss0 = rss_bytes(), heap0 = heap_bytes();
   World w(spec);
   const double heap = heap_bytes() - heap0;
-  // Steps touch the caches built lazily (rotor plans) and, at the 64th, the guard's copies.
+  // Steps touch the caches built lazily (rotor plans) and, a slice a step, the guard's copies.
   w.step(World::kGuardEvery);
   const double rss = rss_bytes() - rss0;
   std::printf("RESULT memory %s%s rss_bytes_per_body %.1f heap_bytes_per_body %.1f bodies %d\n",

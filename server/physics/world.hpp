@@ -148,14 +148,18 @@ class World {
   // An instantaneous momentum change J (N s) at a point, applied at the start of the next step.
   void apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame);
 
-  // The guard: every kGuardEvery steps each body's state is checked. One that went non-finite or
-  // absurd (a component beyond 1e100: a diverging scheme, e.g. explicit drag past c dt / m = 2) is
-  // put back to its last good state (at most kGuardEvery - 1 steps old) and frozen there at rest:
-  // it ignores gravity, loads and impulses from then on, and the rest of the world goes on. The
-  // bodies frozen so far, in order; reset() thaws them.
+  // The guard: every kGuardEvery steps each body's state is checked, a slice of the bodies after
+  // each step (so that no step pays for all of them): body id after the steps whose
+  // step_count() % kGuardEvery == guard_phase(id). One that went non-finite or absurd (a
+  // component beyond 1e100: a diverging scheme, e.g. explicit drag past c dt / m = 2) is put back
+  // to its pose at its previous check (kGuardEvery steps before, or where the world or reset()
+  // started it) and frozen there at rest: it ignores gravity, loads and impulses from then on,
+  // and the rest of the world goes on. The bodies frozen so far, in the order they were frozen;
+  // reset() thaws them.
   static constexpr int kGuardEvery = 64;
   std::span<const int> frozen_bodies() const;
   bool is_frozen(int id) const;
+  int guard_phase(int id) const;
 
   // Body-steps so far in which a body turned by more than pi in one step under an integrator that
   // is not exact for large rotations (every integrator but exact_rotor and exact_rotor4): such a

@@ -365,6 +365,55 @@ TEST(WorldGuard, FreezesADivergingBodyAndTheRestGoesOn) {
   EXPECT_NE(w.state(0).p_WBo.x(), 0.0);  // moving again (RK4 here: R(-5) = -2.5 per step)
 }
 
+// The guard checks a slice of the bodies after each step (no step pays for all of them): each
+// body once in every kGuardEvery steps, after the steps at its phase; the slices are even, and a
+// lone body is checked at multiples of kGuardEvery. A body made absurd right after a check is left
+// alone for kGuardEvery - 1 steps, then frozen at the pose that check passed, the others untouched.
+TEST(WorldGuard, ChecksEachBodyOnceInEveryKGuardEveryStepsAtItsPhase) {
+  constexpr int kEvery = World::kGuardEvery;
+  for (int n : {1, 3, 64, 200}) {
+    SCOPED_TRACE("bodies " + std::to_string(n));
+    WorldSpec ws;
+    ws.dt = 1e-3;
+    ws.g_W.setZero();
+    for (int i = 0; i < n; ++i)
+      ws.bodies.push_back(body("b" + std::to_string(i), {1, 2, 3}, {0.01 * i, 1, -0.5}));
+    const World fresh(ws);
+    std::vector<int> per_phase(kEvery, 0);
+    for (int id = 0; id < n; ++id) {
+      const int k = fresh.guard_phase(id);
+      ASSERT_GE(k, 0);
+      ASSERT_LT(k, kEvery);
+      ++per_phase[k];
+    }
+    for (int k = 0; k < kEvery; ++k) {
+      EXPECT_LE(per_phase[k], (n + kEvery - 1) / kEvery) << "phase " << k;
+      EXPECT_GE(per_phase[k], n / kEvery) << "phase " << k;
+    }
+    EXPECT_EQ(fresh.guard_phase(n - 1), 0);
+    for (int id : {0, n / 2, n - 1}) {
+      SCOPED_TRACE("body " + std::to_string(id));
+      World w(ws);
+      const int k = w.guard_phase(id);
+      w.step(kEvery + k);  // its check after this step passes
+      const BodyState good = w.state(id);
+      BodyState bad = good;
+      bad.v_WBo = Vec3(1e300, 0, 0);
+      w.set_state(id, bad);
+      w.step(kEvery - 1);
+      EXPECT_FALSE(w.is_frozen(id)) << "checked before its turn";
+      w.step();
+      ASSERT_TRUE(w.is_frozen(id)) << "not checked at its turn";
+      ASSERT_EQ(w.frozen_bodies().size(), 1u);
+      const BodyState s = w.state(id);
+      EXPECT_EQ(s.p_WBo, good.p_WBo);
+      EXPECT_EQ(s.q_WB.coeffs(), good.q_WB.coeffs());
+      EXPECT_EQ(s.v_WBo, Vec3::Zero());
+      EXPECT_EQ(s.w_WB, Vec3::Zero());
+    }
+  }
+}
+
 TEST(WorldGuard, RejectsANonFiniteState) {
   World w(one_body(body("a", {1, 2, 3}), 1e-3, ""));
   BodyState s = w.state(0);
@@ -687,7 +736,7 @@ TEST(WorldCold, EachBodyGetsItsOwnSceneLoadsBack) {
 // Bodies whose scene loads are alike share those loads' terms (model.hpp: Group::terms): pushing
 // one, frozen or not, leaves the others' loads alone. Five thrusters alike and one other: body 0
 // is pushed at every step, body 5 every other one (and cleared in between), body 2 is frozen by
-// the guard at step 64; the rest step bit for bit as in a world where nothing is pushed.
+// the guard at its second check; the rest step bit for bit as in a world where nothing is pushed.
 TEST(WorldCold, PushingABodyLeavesTheSceneLoadsItSharesAlone) {
   for (const char* integrator : {"", "rk4"}) {
     SCOPED_TRACE(std::string("integrator '") + integrator + "'");
@@ -713,8 +762,8 @@ TEST(WorldCold, PushingABodyLeavesTheSceneLoadsItSharesAlone) {
       } else {
         pushed.clear_applied(5);
       }
-      // Body 2 diverges (a state the guard refuses) just before the guard's check at step 64.
-      if (step == 63) {
+      // Body 2 diverges (a state the guard refuses) just before its second check.
+      if (step + 1 == World::kGuardEvery + pushed.guard_phase(2)) {
         BodyState s = pushed.state(2);
         s.v_WBo = Vec3(1e300, 0, 0);
         pushed.set_state(2, s);
