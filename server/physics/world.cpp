@@ -790,9 +790,10 @@ bool sane(const Motion& m) {
 }  // namespace
 
 // One slice of the bodies a step, in turn, rather than all of them every kGuardEvery steps: the
-// snapshot writes 56 B a body to memory nothing else touches, which on one thread after the step
-// made every 64th step the slowest by far (10^4 general bodies, a third of them forced: +80 to
-// +180 us on a 190-280 us step, and 1 step in 64 is what sets the p99 rigidd reports).
+// check reads every body and writes 56 B for each to memory nothing else touches, and done for
+// all at once on the calling thread it made every 64th step the slowest by far (bench/
+// step_percentiles, 10^4 general bodies, a third of them forced: that step's median 1.9-2.4 times
+// the others' on two threads, 1.25-1.33 on one), and 1 step in 64 is what a p99 sees.
 void World::Impl::guard() {
   const auto [begin, end] = guard_slice(static_cast<int>(steps % kGuardEvery));
   for (int id = begin; id < end; ++id) {
