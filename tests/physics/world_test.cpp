@@ -367,8 +367,9 @@ TEST(WorldGuard, FreezesADivergingBodyAndTheRestGoesOn) {
 
 // The guard checks a slice of the bodies after each step (no step pays for all of them): each
 // body once in every kGuardEvery steps, after the steps at its phase; the slices are even, and a
-// lone body is checked at multiples of kGuardEvery. A body made absurd right after a check is left
-// alone for kGuardEvery - 1 steps, then frozen at the pose that check passed, the others untouched.
+// lone body is checked at multiples of kGuardEvery. A body made absurd right after a check is
+// left alone for kGuardEvery - 1 steps, then frozen at the pose that check passed, and no other
+// body is frozen.
 TEST(WorldGuard, ChecksEachBodyOnceInEveryKGuardEveryStepsAtItsPhase) {
   constexpr int kEvery = World::kGuardEvery;
   for (int n : {1, 3, 64, 200}) {
