@@ -210,14 +210,41 @@ void Server::set_priorities() {
   bool publishers = true;
   for (auto& p : publishers_)
     publishers = pthread_setschedparam(p->native_handle(), SCHED_FIFO, &param) == 0 && publishers;
+  // --rt-workers: a worker of normal priority preempted in the middle of its chunk holds the
+  // step until the scheduler gives it its CPU back (the loop cannot take a chunk already begun),
+  // so a busy host's other processes stretch the step. At SCHED_FIFO they cannot; the worker
+  // still sleeps between ticks (it polls from just before the tick to the end of the step,
+  // pool.hpp), so it takes its CPUs only for the step's length. Only on CPUs of their own: on
+  // the loop's they would only run behind it anyway.
+  bool rt_workers = false;
+  if (options_.realtime_workers && worker_cpus > 0) {
+    param.sched_priority = options_.fifo_priority - 2;
+    rt_workers = true;
+    for (const std::thread::native_handle_type w : workers)
+      rt_workers = pthread_setschedparam(w, SCHED_FIFO, &param) == 0 && rt_workers;
+    if (!rt_workers) {  // all or none
+      param.sched_priority = 0;
+      for (const std::thread::native_handle_type w : workers)
+        (void)pthread_setschedparam(w, SCHED_OTHER, &param);
+    }
+  }
   log_.line("loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority) +
             (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : "") +
             ", on CPU " + std::to_string(loop_cpu_) +
-            " (the real-time threads never take more than this CPU)" +
+            (rt_workers ? "" : " (the real-time threads never take more than this CPU)") +
             (workers.empty() ? ""
-                             : "; " + std::to_string(workers.size()) +
-                                   " physics worker(s) at normal priority on the " +
-                                   std::to_string(worker_cpus) + " other CPU(s)"));
+                             : "; " + std::to_string(workers.size()) + " physics worker(s) at " +
+                                   (rt_workers ? "SCHED_FIFO priority " +
+                                                     std::to_string(options_.fifo_priority - 2)
+                                               : std::string("normal priority")) +
+                                   " on the " + std::to_string(worker_cpus) + " other CPU(s)") +
+            (options_.realtime_workers && !rt_workers
+                 ? " (--rt-workers: " +
+                       std::string(workers.empty()    ? "no other step thread"
+                                   : worker_cpus == 0 ? "no other CPU"
+                                                      : "refused") +
+                       ")"
+                 : ""));
 }
 
 void Server::stop() {

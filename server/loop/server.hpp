@@ -47,6 +47,10 @@ struct ServerOptions {
   // CPU: the loop then falls behind (overruns, rtf in Stats) instead of starving the host.
   bool realtime_priority = true;
   int fifo_priority = 10;
+  // With realtime_priority, the physics pool's workers (World::worker_threads) at SCHED_FIFO too,
+  // at fifo_priority - 2, on the CPUs other than the loop's (rigidd --rt-workers). Off: they run
+  // at normal priority there, and rigidd's real-time threads never take more than the loop's CPU.
+  bool realtime_workers = false;
   std::int64_t spin_ns = 100'000;  // LoopConfig::spin_ns
   // rigidd --journal: the journal file (created; an existing file is refused), and the scene
   // file's text, kept in it so that a replay can check it runs the same scene. Empty: no file.

@@ -48,6 +48,7 @@ std::string describe(const scene::Scene& s, const rigidd::RigiddOptions& o) {
                          : "") +
       ")";
   text += ", mode " + std::string(rigidd::mode_name(o.mode));
+  if (o.rt_workers) text += ", step workers at real-time priority (--rt-workers)";
   return text;
 }
 
@@ -94,6 +95,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
   server_options.controls = options.controls;
   server_options.secure = !options.security.empty();
   server_options.spin_ns = options.spin_us * 1000;
+  server_options.realtime_workers = options.rt_workers;
   if (!options.journal.empty()) {
     server_options.journal_path = options.journal;
     server_options.scene_text = scene_text(scene.path);

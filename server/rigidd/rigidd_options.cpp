@@ -75,6 +75,10 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       o.reliable_state = true;
       continue;
     }
+    if (arg == "--rt-workers") {
+      o.rt_workers = true;
+      continue;
+    }
     if (arg.empty() || arg[0] != '-') {
       throw UsageError("unexpected argument " + quoted(arg) + " (the scene is given with --scene)");
     }
@@ -164,6 +168,9 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
   if (!o.security.empty() && !o.dds) {
     throw UsageError("--security applies to DDS, which --transport leaves out");
   }
+  if (o.rt_workers && o.mode != rigid::Mode::kRealtime) {
+    throw UsageError("--rt-workers applies to --mode realtime, not " + quoted(mode_name(o.mode)));
+  }
   return o;
 }
 
@@ -199,8 +206,8 @@ std::string default_scene_path(const std::string& source_dir) {
 std::string usage() {
   return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
               [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
-              [--spin-us N] [--threads N] [--journal FILE] [--security DIR]
-              [--controls on|off] [--verbose] [--check]
+              [--spin-us N] [--threads N] [--rt-workers] [--journal FILE]
+              [--security DIR] [--controls on|off] [--verbose] [--check]
 
 Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
 and takes wrenches (forces at body points) and control requests from clients on both buses.
@@ -224,6 +231,13 @@ and takes wrenches (forces at body points) and control requests from clients on 
                      use minus one (at least 1): the loop thread and its publishers keep one
                      CPU, the other step threads run on the others, and one CPU's worth is left
                      to the buses' receive threads. States are bit-identical for any count
+  --rt-workers       realtime mode with --threads 2 or more: the other step threads run at
+                     SCHED_FIFO too (one below the publishers, on the CPUs other than the
+                     loop's), so that no process of normal priority can preempt one in the
+                     middle of its share of a step, which the loop then waits for. For a host
+                     whose other CPUs can be given to rigidd's step: it then takes them at
+                     real-time priority for the step's length each tick. Off by default:
+                     where other processes need those CPUs it can make ticks later instead
   --journal FILE     write every command accepted, with the tick at which it took effect, and
                      a hash of every state published to FILE (created; an existing file is
                      refused): rigid-sim --replay FILE re-runs the session bit for bit

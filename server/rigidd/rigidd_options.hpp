@@ -23,6 +23,8 @@ struct RigiddOptions {
   std::string lcm_url;  // empty: transport::lcm::kDefaultUrl
   std::string prefix;
   bool reliable_state = false;
+  // --rt-workers: realtime mode, the step's other threads at SCHED_FIFO too (loop/server.hpp).
+  bool rt_workers = false;
   std::int64_t spin_us = 100;  // realtime: busy-wait this long before each tick's deadline
   // --threads: the threads that step the world, overriding the scene's world { threads } (0:
   // every CPU). Unset: the scene's, else default_threads().
