@@ -228,23 +228,24 @@ void Server::set_priorities() {
         (void)pthread_setschedparam(w, SCHED_OTHER, &param);
     }
   }
-  log_.line("loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority) +
-            (publishers ? ", publishers " + std::to_string(options_.fifo_priority - 1) : "") +
-            ", on CPU " + std::to_string(loop_cpu_) +
-            (rt_workers ? "" : " (the real-time threads never take more than this CPU)") +
-            (workers.empty() ? ""
-                             : "; " + std::to_string(workers.size()) + " physics worker(s) at " +
-                                   (rt_workers ? "SCHED_FIFO priority " +
-                                                     std::to_string(options_.fifo_priority - 2)
-                                               : std::string("normal priority")) +
-                                   " on the " + std::to_string(worker_cpus) + " other CPU(s)") +
-            (options_.realtime_workers && !rt_workers
-                 ? " (--rt-workers: " +
-                       std::string(workers.empty()    ? "no other step thread"
-                                   : worker_cpus == 0 ? "no other CPU"
-                                                      : "refused") +
-                       ")"
-                 : ""));
+  std::string line = "loop thread: SCHED_FIFO priority " + std::to_string(options_.fifo_priority);
+  if (publishers) line += ", publishers " + std::to_string(options_.fifo_priority - 1);
+  line += ", on CPU " + std::to_string(loop_cpu_);
+  if (!rt_workers) line += " (the real-time threads never take more than this CPU)";
+  if (!workers.empty()) {
+    line += "; " + std::to_string(workers.size()) + " physics worker(s) at " +
+            (rt_workers ? "SCHED_FIFO priority " + std::to_string(options_.fifo_priority - 2)
+                        : std::string("normal priority")) +
+            " on the " + std::to_string(worker_cpus) + " other CPU(s)";
+  }
+  if (options_.realtime_workers && !rt_workers) {
+    line += std::string(" (--rt-workers: ") +
+            (workers.empty()    ? "no other step thread"
+             : worker_cpus == 0 ? "no other CPU"
+                                : "refused") +
+            ")";
+  }
+  log_.line(line);
 }
 
 void Server::stop() {
