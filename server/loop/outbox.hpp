@@ -25,8 +25,9 @@ class LoopOutput : public ReplySink {
   // (CLOCK_MONOTONIC), or 0: the publishers measure command-to-state latency with it.
   virtual void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) = 0;
   // The same, allowed to take the frame's contents instead of copying them (a state of 10^4
-  // bodies is 1 MB, copied on the loop's thread once per bus): the frame comes back with the same
-  // shape (ids and array sizes) and stale values, which the loop overwrites before its next offer.
+  // bodies is 1 MB; the server shares it among its buses, shared_states.hpp): the frame comes back
+  // with the same shape (ids and array sizes) and stale values, which the loop overwrites before
+  // its next offer.
   // By default a copy (offer_state).
   virtual void hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
     offer_state(frame, command_arrival_ns);

@@ -41,9 +41,22 @@ std::string_view outcome_name(rigid::Outcome outcome) {
 
 }  // namespace
 
+Publisher::Publisher(transport::Transport& transport, SharedStates& states, Log& log,
+                     std::size_t reply_capacity)
+    : transport_(transport),
+      log_(log),
+      states_(states),
+      reader_(states.add_reader()),
+      replies_(reply_capacity) {}
+
 Publisher::Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
                      std::size_t reply_capacity)
-    : transport_(transport), log_(log), states_(Snapshot{shape, 0}), replies_(reply_capacity) {}
+    : transport_(transport),
+      log_(log),
+      own_states_(std::make_unique<SharedStates>(shape)),
+      states_(*own_states_),
+      reader_(states_.add_reader()),
+      replies_(reply_capacity) {}
 
 Publisher::~Publisher() {
   stop();
@@ -66,27 +79,30 @@ void Publisher::wake() {
 }
 
 void Publisher::offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
-  states_.back().frame = frame;
-  publish_back(command_arrival_ns);
+  offer_slot(states_.put_copied(frame, 1), command_arrival_ns);
 }
 
 void Publisher::hand_over(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
-  std::swap(states_.back().frame, frame);  // swaps the vectors' buffers: no copy, no allocation
-  publish_back(command_arrival_ns);
+  offer_slot(states_.put_swapped(frame, 1), command_arrival_ns);
 }
 
-void Publisher::publish_back(std::int64_t command_arrival_ns) {
-  Snapshot& back = states_.back();
+void Publisher::offer_slot(int slot, std::int64_t command_arrival_ns) {
   // A command whose state was skipped first shows in this one.
-  back.command_arrival_ns = command_arrival_ns == 0 || (carried_arrival_ns_ != 0 &&
-                                                        carried_arrival_ns_ < command_arrival_ns)
-                                ? carried_arrival_ns_
-                                : command_arrival_ns;
+  states_.set_arrival(slot, reader_,
+                      command_arrival_ns == 0 ||
+                              (carried_arrival_ns_ != 0 && carried_arrival_ns_ < command_arrival_ns)
+                          ? carried_arrival_ns_
+                          : command_arrival_ns);
   carried_arrival_ns_ = 0;
-  if (states_.publish()) {
+  // Release: the slot's frame, stamp and arrival before the publisher's acquire.
+  const std::uint32_t old =
+      mailbox_.exchange(static_cast<std::uint32_t>(slot) | kFresh, std::memory_order_acq_rel);
+  if ((old & kFresh) != 0) {
+    // Never taken: this publisher's hold on it goes, and its command's arrival to the next state.
+    const int skipped = static_cast<int>(old & ~kFresh);
     states_skipped_.fetch_add(1, std::memory_order_relaxed);
-    // back() is now the snapshot that was never sent.
-    carried_arrival_ns_ = states_.back().command_arrival_ns;
+    carried_arrival_ns_ = states_.arrival(skipped, reader_);
+    states_.release(skipped);
   }
   wake();
 }
@@ -94,7 +110,7 @@ void Publisher::publish_back(std::int64_t command_arrival_ns) {
 bool Publisher::wait_taken(std::int64_t deadline_ns) {
   for (;;) {
     const std::uint32_t seen = taken_.count();
-    if (!states_.pending()) return true;
+    if ((mailbox_.load(std::memory_order_acquire) & kFresh) == 0) return true;
     if (monotonic_ns() >= deadline_ns) return false;
     taken_.wait_until(seen, deadline_ns);
   }
@@ -130,6 +146,25 @@ void Publisher::send_replies() {
   }
 }
 
+void Publisher::send_state() {
+  // Takes the mailbox's slot, leaving it without kFresh (the writer's exchange never mistakes it
+  // for an offer not taken).
+  const std::uint32_t m = mailbox_.fetch_and(~kFresh, std::memory_order_acq_rel);
+  if ((m & kFresh) == 0) return;
+  taken_.ring();  // a loop waiting to hand over the next state may go on
+  const int slot = static_cast<int>(m & ~kFresh);
+  const std::int64_t arrival_ns = states_.arrival(slot, reader_);
+  if (transport_.publish(states_.frame(slot)) == transport::PublishResult::kOk) {
+    states_sent_.fetch_add(1, std::memory_order_relaxed);
+    if (arrival_ns != 0) command_to_state_.record(monotonic_ns() - arrival_ns);
+  } else if (!logged_send_failure_) {
+    logged_send_failure_ = true;
+    log_.line("cannot publish the state on " + std::string(to_string(transport_.bus())) +
+              " (further failures are counted in Stats)");
+  }
+  states_.release(slot);  // last: the frame may be refilled once every reader let go
+}
+
 void Publisher::run() {
   for (;;) {
     const std::uint32_t seen = work_.load(std::memory_order_acquire);
@@ -137,20 +172,7 @@ void Publisher::run() {
     // (read after, a state offered while the previous one was being sent was dropped at exit).
     const bool stopping = stop_.load(std::memory_order_acquire);
     // The state first: a client that gets a step's reply finds its state already sent.
-    if (Snapshot* snapshot = states_.take()) {
-      taken_.ring();  // a loop waiting to hand over the next state may go on
-      snapshot->frame.stamp_ns = realtime_ns();
-      if (transport_.publish(snapshot->frame) == transport::PublishResult::kOk) {
-        states_sent_.fetch_add(1, std::memory_order_relaxed);
-        if (snapshot->command_arrival_ns != 0) {
-          command_to_state_.record(monotonic_ns() - snapshot->command_arrival_ns);
-        }
-      } else if (!logged_send_failure_) {
-        logged_send_failure_ = true;
-        log_.line("cannot publish the state on " + std::string(to_string(transport_.bus())) +
-                  " (further failures are counted in Stats)");
-      }
-    }
+    send_state();
     send_replies();
     if (stopping) return;
     work_.wait(seen, std::memory_order_acquire);

@@ -1,12 +1,14 @@
 // Sends what the loop produces on one bus, from its own thread, so that a slow or stalled bus or
-// subscriber never delays a tick: the loop copies each state into a triple buffer (the publisher
-// sends the newest one and the ones it had no time for are counted as skipped) and queues control
-// replies; the publisher wakes on a futex. One publisher per transport, so one bus never waits
-// for the other.
+// subscriber never delays a tick: the loop puts each state into a slot that every bus's
+// publisher reads (SharedStates: no copy per bus) and offers it through the publisher's mailbox,
+// which holds the newest state not yet taken (one it replaces before it was taken is counted as
+// skipped); replies are queued. The publisher wakes on a futex. One publisher per transport, so one
+// bus never waits for the other.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <thread>
 
 #include "loop/bounded_queue.hpp"
@@ -14,14 +16,18 @@
 #include "loop/doorbell.hpp"
 #include "loop/histogram.hpp"
 #include "loop/log.hpp"
-#include "loop/triple_buffer.hpp"
+#include "loop/shared_states.hpp"
 #include "transport/transport.hpp"
 
 namespace rigid::loop {
 
 class Publisher {
  public:
-  // `shape`: a frame with the final number of bodies, so the buffers never grow.
+  // Reads the states of `states` (shared with the other buses' publishers; it becomes one of its
+  // readers), which must outlive it.
+  Publisher(transport::Transport& transport, SharedStates& states, Log& log,
+            std::size_t reply_capacity = 256);
+  // Alone: its own states, shaped like `shape` (the final number of bodies, so nothing grows).
   Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
             std::size_t reply_capacity = 256);
   ~Publisher();
@@ -36,12 +42,15 @@ class Publisher {
   // Sends what is pending, then stops the thread. Idempotent.
   void stop();
 
-  // Loop thread: a new state (copied; allocation-free once the buffers have the frame's shape).
-  // command_arrival_ns: see LoopOutput::offer_state.
+  // Loop thread: slot `slot` of its SharedStates, put there for this publisher among others (its
+  // holders count this one), to send. command_arrival_ns: see LoopOutput::offer_state.
+  // Allocates nothing.
+  void offer_slot(int slot, std::int64_t command_arrival_ns = 0);
+  // Loop thread, a publisher alone (its SharedStates has no other reader): a new state, copied
+  // into a free slot (allocation-free once the slots have the frame's shape).
   void offer(const rigid::StateFrame& frame, std::int64_t command_arrival_ns = 0);
-  // Loop thread: the same, by swapping `frame` with the buffer it would be copied into: `frame`
-  // comes back with the shape this publisher was made with and stale values. It must have that
-  // shape too (the loop's frames all do).
+  // Loop thread, alone: the same, by swapping `frame` with the slot's: `frame` comes back with the
+  // shape this publisher was made with and stale values. It must have that shape too.
   void hand_over(rigid::StateFrame& frame, std::int64_t command_arrival_ns = 0);
   // Loop thread: waits until the publisher has taken the last state offered (it is being sent or
   // was sent) or until `deadline_ns` (CLOCK_MONOTONIC); true if taken. Allocates nothing.
@@ -60,18 +69,20 @@ class Publisher {
   void run();
   void wake();
   void send_replies();
-  // offer and hand_over once the back buffer holds the new frame.
-  void publish_back(std::int64_t command_arrival_ns);
+  // Publisher thread: sends the state in the mailbox, if any.
+  void send_state();
+
+  // The mailbox: the slot offered and not yet taken (with kFresh), or an old slot (without).
+  static constexpr std::uint32_t kFresh = 1u << 31;
 
   transport::Transport& transport_;
   Log& log_;
-  struct Snapshot {
-    rigid::StateFrame frame;
-    std::int64_t command_arrival_ns = 0;
-  };
-  TripleBuffer<Snapshot> states_;
+  std::unique_ptr<SharedStates> own_states_;  // alone: its own (else null)
+  SharedStates& states_;
+  const int reader_;  // its index among states_'s readers
+  std::atomic<std::uint32_t> mailbox_{0};
   Histogram command_to_state_;           // publisher thread
-  std::int64_t carried_arrival_ns_ = 0;  // loop thread: from a skipped snapshot
+  std::int64_t carried_arrival_ns_ = 0;  // loop thread: from a skipped state
   BoundedQueue<Reply> replies_;
   Doorbell taken_;                      // rung by the publisher thread whenever it takes a state
   std::atomic<std::uint32_t> work_{0};  // bumped for every piece of work; the thread waits on it

@@ -138,7 +138,9 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
                   rejects_, *this),
       loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
   scene_info_ = describe_scene(scene, loop_.world());
-  shape_state_frame(loop_.world(), shape_);
+  rigid::StateFrame shape;
+  shape_state_frame(loop_.world(), shape);
+  states_ = std::make_unique<SharedStates>(shape);
   Journal::Options journal;
   journal.path = options.journal_path;
   journal_ =
@@ -156,7 +158,7 @@ transport::Receiver& Server::receiver(rigid::Bus bus) {
 }
 
 void Server::add_transport(std::unique_ptr<transport::Transport> transport) {
-  publishers_.push_back(std::make_unique<Publisher>(*transport, shape_, log_));
+  publishers_.push_back(std::make_unique<Publisher>(*transport, *states_, log_));
   by_bus_[bus_index(transport->bus())].store(publishers_.back().get(), std::memory_order_release);
   transports_.push_back(std::move(transport));
 }
@@ -288,15 +290,17 @@ bool Server::first_state_sent() const {
 }
 
 void Server::offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
+  if (publishers_.empty()) return;
+  const int slot = states_->put_copied(frame, static_cast<int>(publishers_.size()));
   for (auto& p : publishers_)
-    p->offer(frame, command_arrival_ns);
+    p->offer_slot(slot, command_arrival_ns);
 }
 
 void Server::hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
   if (publishers_.empty()) return;
-  for (std::size_t k = 0; k + 1 < publishers_.size(); ++k)
-    publishers_[k]->offer(frame, command_arrival_ns);
-  publishers_.back()->hand_over(frame, command_arrival_ns);
+  const int slot = states_->put_swapped(frame, static_cast<int>(publishers_.size()));
+  for (auto& p : publishers_)
+    p->offer_slot(slot, command_arrival_ns);
 }
 
 bool Server::wait_states_taken(std::int64_t deadline_ns) {

@@ -97,7 +97,7 @@ class Server final : private LoopOutput {
 
  private:
   void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
-  // Copies the frame to every bus but the last, which takes it.
+  // Swaps the frame into a slot of states_ that every bus's publisher reads: no copy.
   void hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
   bool wait_states_taken(std::int64_t deadline_ns) override;
   void reply(const Reply& reply) override;
@@ -121,7 +121,8 @@ class Server final : private LoopOutput {
   Intake dds_intake_;
   Intake lcm_intake_;
   Loop loop_;
-  rigid::StateFrame shape_;
+  // The states the publishers read (before them: they hold a reference to it).
+  std::unique_ptr<SharedStates> states_;
   // Publishers by bus, for replies (set before start, read from any thread).
   std::array<std::atomic<Publisher*>, 2> by_bus_{};
   std::vector<std::unique_ptr<Publisher>> publishers_;

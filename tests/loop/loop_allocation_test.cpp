@@ -69,21 +69,24 @@ using testing::make_scene;
 // journal entries to the journal (when there is one, as with rigidd --journal).
 class PublishingRecorder : public testing::Recorder {
  public:
-  PublishingRecorder(Publisher& a, Publisher& b) : a_(a), b_(b) {}
+  PublishingRecorder(SharedStates& states, Publisher& a, Publisher& b)
+      : states_(states), a_(a), b_(b) {}
   void journal(const JournalEntry& e) override {
     if (journal_ != nullptr) journal_->push(e);
   }
   void attach(Journal* j) { journal_ = j; }
+  // As the server: one slot of the shared states, offered to both buses.
   void offer_state(const rigid::StateFrame& f, std::int64_t arrival_ns) override {
-    a_.offer(f, arrival_ns);
-    b_.offer(f, arrival_ns);
+    const int slot = states_.put_copied(f, 2);
+    a_.offer_slot(slot, arrival_ns);
+    b_.offer_slot(slot, arrival_ns);
     Recorder::offer_state(f, arrival_ns);
   }
-  // As the server: copied to the first bus, swapped into the last.
   void hand_over_state(rigid::StateFrame& f, std::int64_t arrival_ns) override {
     Recorder::offer_state(f, arrival_ns);
-    a_.offer(f, arrival_ns);
-    b_.hand_over(f, arrival_ns);
+    const int slot = states_.put_swapped(f, 2);
+    a_.offer_slot(slot, arrival_ns);
+    b_.offer_slot(slot, arrival_ns);
   }
   void reply(const Reply& r) override {
     a_.reply(r);
@@ -91,6 +94,7 @@ class PublishingRecorder : public testing::Recorder {
   }
 
  private:
+  SharedStates& states_;
   Publisher& a_;
   Publisher& b_;
   Journal* journal_ = nullptr;
@@ -140,9 +144,10 @@ Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std
 struct Rig {
   Rig(const scene::Scene& s, Mode m, bool hash_states)
       : shape(shaped(s)),
-        a(bus_a, shape, log),
-        b(bus_b, shape, log),
-        out(a, b),
+        states(shape),
+        a(bus_a, states, log),
+        b(bus_b, states, log),
+        out(states, a, b),
         loop(s.world, config(s, m, hash_states), queue, doorbell, rejects, out) {
     out.last = shape;
   }
@@ -169,6 +174,7 @@ struct Rig {
   testing::NullTransport bus_a, bus_b;
   MemoryLog log;
   rigid::StateFrame shape;
+  SharedStates states;
   Publisher a, b;
   PublishingRecorder out;
   BoundedQueue<Command> queue{256};

@@ -1,12 +1,15 @@
-// Publisher: states handed over by swapping buffers (Publisher::hand_over, what rigidd's loop does
-// for its last bus) reach the bus whole and in order, interleaved with copied offers, while the
-// loop keeps refilling the frame it got back.
+// Publisher: states handed over by swapping buffers (Publisher::hand_over) reach the bus whole and
+// in order, interleaved with copied offers, while the loop keeps refilling the frame it got back;
+// and, as rigidd runs them, two publishers reading the same shared slots (one bus slow, one fast)
+// each send whole states in order, the last one included, and let go of every slot.
 #include "loop/publisher.hpp"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <mutex>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "loop/log.hpp"
@@ -20,11 +23,20 @@ class RecordingTransport final : public testing::NullTransport {
  public:
   using NullTransport::publish;
   transport::PublishResult publish(const rigid::StateFrame& s) override {
-    const std::lock_guard lock(mutex);
-    states.push_back(s);
+    {
+      const std::lock_guard lock(mutex);
+      states.push_back(s);
+    }
+    // A slow bus: the loop offers newer states meanwhile, and must not touch this one's slot.
+    if (delay_us > 0) {
+      std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
+      if (s.tick != states.back().tick || s.position != states.back().position) ++changed;
+    }
     return ok();
   }
 
+  int delay_us = 0;
+  int changed = 0;  // states whose frame changed while being sent
   std::mutex mutex;
   std::vector<rigid::StateFrame> states;
 };
@@ -52,11 +64,38 @@ void fill(std::int64_t tick, rigid::StateFrame& f) {
       (*arrays[a])[k] = value(tick, a, k);
 }
 
-TEST(Publisher, HandedOverStatesArriveWholeAndInOrder) {
+// Every state `bus` got is whole (each value its tick's), in increasing tick order, the last
+// being `last_tick`.
+void expect_whole_and_in_order(RecordingTransport& bus, const rigid::StateFrame& shape,
+                               std::int64_t last_tick) {
+  const std::lock_guard lock(bus.mutex);
+  ASSERT_FALSE(bus.states.empty());
+  EXPECT_EQ(bus.states.back().tick, last_tick) << "the last state is never skipped";
+  std::int64_t previous = 0;
+  for (const rigid::StateFrame& s : bus.states) {
+    EXPECT_GT(s.tick, previous) << "states out of order or sent twice";
+    previous = s.tick;
+    ASSERT_EQ(s.ids, shape.ids);
+    ASSERT_TRUE(s.lengths_agree());
+    const std::vector<double>* arrays[] = {&s.position, &s.orientation, &s.linear_velocity,
+                                           &s.angular_velocity};
+    for (int a = 0; a < 4; ++a)
+      for (std::size_t k = 0; k < arrays[a]->size(); ++k)
+        ASSERT_EQ((*arrays[a])[k], value(s.tick, a, k))
+            << "tick " << s.tick << " array " << a << " element " << k;
+  }
+}
+
+rigid::StateFrame make_shape() {
   rigid::StateFrame shape;
   shape.resize(kBodies);
   for (int i = 0; i < kBodies; ++i)
     shape.ids[static_cast<std::size_t>(i)] = 10 + i;
+  return shape;
+}
+
+TEST(Publisher, HandedOverStatesArriveWholeAndInOrder) {
+  const rigid::StateFrame shape = make_shape();
   RecordingTransport bus;
   NullLog log;
   Publisher publisher(bus, shape, log);
@@ -76,23 +115,49 @@ TEST(Publisher, HandedOverStatesArriveWholeAndInOrder) {
   }
   publisher.stop();  // sends what is pending
 
-  const std::lock_guard lock(bus.mutex);
-  ASSERT_FALSE(bus.states.empty());
-  EXPECT_EQ(bus.states.back().tick, kTicks) << "the last state is never skipped";
-  EXPECT_EQ(static_cast<std::int64_t>(bus.states.size()), publisher.states_sent());
-  std::int64_t previous = 0;
-  for (const rigid::StateFrame& s : bus.states) {
-    EXPECT_GT(s.tick, previous) << "states out of order or sent twice";
-    previous = s.tick;
-    ASSERT_EQ(s.ids, shape.ids);
-    ASSERT_TRUE(s.lengths_agree());
-    const std::vector<double>* arrays[] = {&s.position, &s.orientation, &s.linear_velocity,
-                                           &s.angular_velocity};
-    for (int a = 0; a < 4; ++a)
-      for (std::size_t k = 0; k < arrays[a]->size(); ++k)
-        ASSERT_EQ((*arrays[a])[k], value(s.tick, a, k))
-            << "tick " << s.tick << " array " << a << " element " << k;
+  EXPECT_EQ(static_cast<std::int64_t>(bus.states.size()), publisher.states_sent());  // joined
+  expect_whole_and_in_order(bus, shape, kTicks);
+}
+
+TEST(Publisher, TwoBusesShareEachStateAndLetGoOfEverySlot) {
+  const rigid::StateFrame shape = make_shape();
+  SharedStates states(shape);
+  RecordingTransport slow, fast;
+  slow.delay_us = 200;
+  NullLog log;
+  Publisher a(slow, states, log);
+  Publisher b(fast, states, log);
+  ASSERT_EQ(states.slots(), 5);
+  a.start();
+  b.start();
+  rigid::StateFrame frame = shape;
+  constexpr std::int64_t kTicks = 3000;
+  for (std::int64_t t = 1; t <= kTicks; ++t) {
+    fill(t, frame);
+    // As the server: swapped into a free slot (copied every 4th), offered to both.
+    const int slot = t % 4 == 0 ? states.put_copied(frame, 2) : states.put_swapped(frame, 2);
+    a.offer_slot(slot);
+    b.offer_slot(slot);
+    ASSERT_TRUE(frame.lengths_agree());
+    ASSERT_EQ(frame.ids, shape.ids);
+    if (t % 500 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
+  a.stop();
+  b.stop();
+
+  expect_whole_and_in_order(slow, shape, kTicks);
+  expect_whole_and_in_order(fast, shape, kTicks);
+  EXPECT_EQ(a.states_sent() + a.states_skipped(), kTicks);
+  EXPECT_EQ(b.states_sent() + b.states_skipped(), kTicks);
+  EXPECT_GT(a.states_skipped(), 0) << "the slow bus should have had states replaced";
+  EXPECT_EQ(slow.changed, 0) << "a slot was refilled while a bus was sending it";
+  for (int k = 0; k < states.slots(); ++k)
+    EXPECT_EQ(states.holders(k), 0) << "slot " << k << " still held after both stopped";
+  // The same state carries the same stamp on both buses (stamped once, when put).
+  const std::lock_guard la(slow.mutex);
+  const std::lock_guard lb(fast.mutex);
+  EXPECT_EQ(slow.states.back().stamp_ns, fast.states.back().stamp_ns);
+  EXPECT_NE(slow.states.back().stamp_ns, 0);
 }
 
 }  // namespace

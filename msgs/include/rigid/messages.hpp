@@ -71,7 +71,7 @@ inline constexpr std::size_t kMaxReasonLength = 24;
 struct StateFrame {
   std::int64_t tick = 0;
   double sim_time = 0.0;      // tick * dt (s)
-  std::int64_t stamp_ns = 0;  // wall clock (CLOCK_REALTIME) at publish
+  std::int64_t stamp_ns = 0;  // wall clock (CLOCK_REALTIME) when handed to the buses
   std::vector<std::int32_t> ids;
   std::vector<double> position;          // 3n: p_WBo
   std::vector<double> orientation;       // 4n: q_WB as w, x, y, z
