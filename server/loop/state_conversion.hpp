@@ -15,8 +15,7 @@ namespace rigid::loop {
 void shape_state_frame(const physics::World& world, rigid::StateFrame& frame);
 
 // Writes tick, sim_time and every body's state into a frame shaped by shape_state_frame.
-// Allocates nothing. stamp_ns is left for the hand-over to the buses
-// (SharedStates).
+// Allocates nothing. stamp_ns is left for the hand-over to the buses (SharedStates).
 void fill_state_frame(const physics::World& world, std::int64_t tick, double sim_time,
                       rigid::StateFrame& frame);
 
