@@ -21,10 +21,6 @@ namespace {
 using rigidd::testing::TimedState;
 using sim::testing::TestDir;
 
-const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
-// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
-
 // The angular momentum about the centre of mass in W of body `i`, I_B from the SceneInfo: what a
 // torque changes and nothing else does (w alone changes by itself for a free asymmetric body).
 physics::Vec3 momentum_W(const rigid::StateFrame& s, const rigid::SceneDescription& scene,

@@ -16,9 +16,6 @@
 namespace rigid::faults::testing {
 namespace {
 
-// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
-
 // Every command received (decoded) is accepted or refused for one reason (undecodable payloads
 // are counted apart: they were never received as commands).
 std::int64_t accounted(const rigid::StatsReport& s) {

@@ -24,9 +24,6 @@ namespace {
 using rigidd::testing::TimedState;
 using sim::testing::TestDir;
 
-// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
-const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
-const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
 const std::string kAttitudeMoved = std::string(RIGID_FAULT_SCENES) + "/attitude_moved.pbtxt";
 
 class ServerFault : public ::testing::TestWithParam<Bus> {};

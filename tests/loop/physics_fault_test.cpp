@@ -21,7 +21,7 @@ using testing::make_scene;
 
 // RK4 at 1 kHz. The sled's drag is stiff for RK4 (c dt / m = 5: x13.7 per step once it moves)
 // but harmless at rest; the puck is a witness; the ball spins past pi per tick under a torque.
-const char* kScene = R"(
+const char* kDivergingScene = R"(
 world { rate_hz: 1000 publish_every: 1 gravity { z: 0 } integrator: "rk4"
         limits { max_force: 1e6 max_torque: 1e6 max_ttl: 10 } }
 body { name: "puck" mass: 2 }
@@ -54,7 +54,7 @@ bool wait_summary(Loop& loop, LoopSummary& s, Pred pred) {
 }
 
 TEST(LoopPhysicsFault, ADivergingBodyIsFrozenReportedOnceAndTheRestGoesOn) {
-  Harness h(make_scene(kScene), Mode::kLockstep);
+  Harness h(make_scene(kDivergingScene), Mode::kLockstep);
   h.start();
   std::int64_t seq = 0;
   // 1 N on the sled for one tick sets it moving; RK4 then multiplies its velocity by -13.7 a step
@@ -119,7 +119,7 @@ TEST(LoopPhysicsFault, ADivergingBodyIsFrozenReportedOnceAndTheRestGoesOn) {
 }
 
 TEST(LoopPhysicsFault, AResetThawsAndTheSummaryCountsNoFrozenBody) {
-  Harness h(make_scene(kScene), Mode::kLockstep);
+  Harness h(make_scene(kDivergingScene), Mode::kLockstep);
   h.start();
   h.wrench(force_on(kSled, 1, 1.0, 0.0));
   h.control(ControlKind::kStep, 2, 200);

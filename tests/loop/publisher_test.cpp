@@ -46,7 +46,7 @@ class NullLog final : public Log {
   void line(std::string_view) override {}
 };
 
-constexpr int kBodies = 5;
+constexpr int kFrameBodies = 5;
 
 // Every value of the state of tick t is a function of t and its place: a state mixed from two
 // ticks, or a stale value left in a swapped buffer, shows.
@@ -88,8 +88,8 @@ void expect_whole_and_in_order(RecordingTransport& bus, const rigid::StateFrame&
 
 rigid::StateFrame make_shape() {
   rigid::StateFrame shape;
-  shape.resize(kBodies);
-  for (int i = 0; i < kBodies; ++i)
+  shape.resize(kFrameBodies);
+  for (int i = 0; i < kFrameBodies; ++i)
     shape.ids[static_cast<std::size_t>(i)] = 10 + i;
   return shape;
 }
