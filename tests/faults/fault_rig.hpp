@@ -19,14 +19,15 @@
 namespace rigid::faults::testing {
 
 using namespace std::chrono_literals;
-
-// Every body model under gravity (config/scenes/mixed.pbtxt, the former default scene).
-inline const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
-inline const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
 using rigid::Bus;
 using rigidd::testing::BusClient;
 using rigidd::testing::Completed;
 using rigidd::testing::RigiddProcess;
+
+// The scenes the fault tests run on. Every body model under gravity (config/scenes/mixed.pbtxt,
+// the former default scene):
+inline const std::string kDefault = std::string(RIGID_SCENES_DIR) + "/mixed.pbtxt";
+inline const std::string kAttitude = std::string(RIGID_SCENES_DIR) + "/attitude.pbtxt";
 
 inline std::string bus_name(Bus b) {
   return b == Bus::kDds ? "dds" : "lcm";
