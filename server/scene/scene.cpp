@@ -16,7 +16,6 @@
 #include <limits>
 #include <map>
 #include <optional>
-#include <sstream>
 
 #include "physics/inertia.hpp"
 #include "physics/integrator.hpp"
@@ -111,8 +110,10 @@ class CollectErrors : public pb::io::ErrorCollector {
 // Turns a parsed scene into a Scene, checking everything and pointing at the text for each problem.
 class Loader {
  public:
-  Loader(std::string_view name, const msgs::Scene& msg, const TextNode::Tree& tree)
-      : msg_(msg), root_(msgs::Scene::descriptor(), &tree) {
+  // tree: where the parser saw each field, or null: every message then points at 1:1 (see
+  // parse_scene, which loads again with the tree when there is something to say).
+  Loader(std::string_view name, const msgs::Scene& msg, const TextNode::Tree* tree)
+      : msg_(msg), root_(msgs::Scene::descriptor(), tree) {
     scene_.path = std::string(name);
   }
 
@@ -507,32 +508,61 @@ class Loader {
   std::map<std::string, int, std::less<>> body_index_;  // name -> body index (load_bodies)
 };
 
-}  // namespace
-
-Scene parse_scene(std::string_view text, std::string_view name) {
-  CollectErrors errors;
-  TextNode::Tree tree;
+// The text into msg, with the parser's warnings in `errors` and, unless `tree` is null, where
+// each field was written. Throws SceneError on a syntax error (the parser's own position).
+void parse_text(std::string_view text, std::string_view name, msgs::Scene& msg,
+                CollectErrors& errors, TextNode::Tree* tree) {
   pb::TextFormat::Parser parser;
   parser.RecordErrorsTo(&errors);
-  parser.WriteLocationsTo(&tree);
+  if (tree != nullptr) parser.WriteLocationsTo(tree);
   // The tokenizer takes an int size.
   if (text.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw SceneError(std::string(name), 0, 0, "file too large for a scene");
   }
   pb::io::ArrayInputStream input(text.data(), static_cast<int>(text.size()));
-  msgs::Scene msg;
-  if (!parser.Parse(&input, &msg)) {
-    if (errors.error()) {
-      // The parser quotes the offending token, which may hold any byte (a line break, too).
-      std::string message = printable(errors.error()->message);
-      // At the end of the text the parser's "Expected X, got: " names no token.
-      if (message.ends_with("got: ")) message += "the end of the file";
-      throw SceneError(std::string(name), errors.error()->pos.line, errors.error()->pos.column,
-                       message);
-    }
-    throw SceneError(std::string(name), 0, 0, "not a valid scene (text format)");
+  if (parser.Parse(&input, &msg)) return;
+  if (errors.error()) {
+    // The parser quotes the offending token, which may hold any byte (a line break, too).
+    std::string message = printable(errors.error()->message);
+    // At the end of the text the parser's "Expected X, got: " names no token.
+    if (message.ends_with("got: ")) message += "the end of the file";
+    throw SceneError(std::string(name), errors.error()->pos.line, errors.error()->pos.column,
+                     message);
   }
-  Scene scene = Loader(name, msg, tree).load();
+  throw SceneError(std::string(name), 0, 0, "not a valid scene (text format)");
+}
+
+}  // namespace
+
+// The parser can record where it saw every field (a ParseInfoTree), which the loader's errors and
+// warnings point at; but the tree takes ~1.6 KB a body (a scene of 10^6 bodies: 1.6 GB while it
+// loads, three times what the world it describes keeps). So the text is parsed and loaded without
+// it first, and again with it only when the loader has something to say: it refuses the scene or
+// warns. Both loads read the same message and decide the same, so the second says what the first
+// would have, with positions.
+Scene parse_scene(std::string_view text, std::string_view name) {
+  {
+    msgs::Scene msg;
+    CollectErrors errors;
+    parse_text(text, name, msg, errors, nullptr);
+    try {
+      Scene scene = Loader(name, msg, nullptr).load();
+      if (scene.warnings.empty()) {
+        for (const CollectErrors::Entry& w : errors.warnings()) {
+          scene.warnings.push_back(std::string(name) + ":" + pos_text(w.pos) +
+                                   ": warning: " + printable(w.message));
+        }
+        return scene;
+      }
+    } catch (const SceneError&) {
+      // Said below, with its position.
+    }
+  }
+  msgs::Scene msg;
+  CollectErrors errors;
+  TextNode::Tree tree;
+  parse_text(text, name, msg, errors, &tree);
+  Scene scene = Loader(name, msg, &tree).load();
   std::vector<std::string> warnings;
   for (const CollectErrors::Entry& w : errors.warnings()) {
     warnings.push_back(std::string(name) + ":" + pos_text(w.pos) +
@@ -549,10 +579,21 @@ Scene load_scene(const std::string& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path, 0, 0, std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read into one string sized by the file (a stream's buffer and its copy held the text of a
+  // large scene twice at once).
+  std::string text;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec) text.reserve(static_cast<std::size_t>(size));
+  std::array<char, 1 << 16> chunk;
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    // What the tokenizer could never take is not read on (a device or a pipe may never end).
+    if (text.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+      throw SceneError(path, 0, 0, "file too large for a scene");
+    }
+  }
   if (in.bad()) throw SceneError(path, 0, 0, std::string("cannot read: ") + std::strerror(errno));
-  return parse_scene(text.str(), path);
+  return parse_scene(text, path);
 }
 
 }  // namespace rigid::scene
