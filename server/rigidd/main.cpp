@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "loop/log.hpp"
@@ -78,7 +79,7 @@ std::string scene_text(const std::string& path) {
   return text.str();
 }
 
-int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
+int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   // Block SIGTERM and SIGINT before any thread exists (the buses start threads), so that only
   // the signalfd sees them.
   util::SignalWatcher signals({SIGTERM, SIGINT});
@@ -101,12 +102,19 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
     server_options.scene_text = scene_text(scene.path);
   }
   loop::Server server(scene, server_options, log);
+  // The server keeps what it needs of the scene (the world its compact copy of the bodies): the
+  // rest, ~400 B a body, goes now rather than stay resident for the daemon's life. What loading
+  // freed (the text, its parsed message, the world's build scratch) goes back to the system too:
+  // below the trim threshold set above, glibc would keep it.
+  const std::size_t bodies = scene.world.bodies.size();
+  const std::string description = describe(scene, options);
+  scene = scene::Scene{};
+  malloc_trim(0);
   // DDS stays on loopback unless a network is configured (CYCLONEDDS_URI).
   const std::string dds_config = options.dds ? transport::dds::ensure_dds_config() : "";
   if (options.dds) {
     // Its own largest samples (a state: ~110 B a body; a scene: ~300 B a body) with room to
     // spare, and at least 1 MiB: anything larger from outside is dropped before reassembly.
-    const std::size_t bodies = scene.world.bodies.size();
     transport::dds::limit_sample_size(std::max<std::size_t>(1 << 20, 2 * (400 * bodies + 65536)));
   }
   const std::string lcm_url =
@@ -135,7 +143,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
 
   rigidd::SystemdNotifier systemd;
   server.start();
-  log.line("started: " + describe(scene, options) + "; " + buses(options, lcm_url) +
+  log.line("started: " + description + "; " + buses(options, lcm_url) +
            (options.journal.empty() ? "" : "; journal " + options.journal) +
            (options.dds ? "; " + dds_config : ""));
 
@@ -151,7 +159,7 @@ int run(const rigidd::RigiddOptions& options, const scene::Scene& scene) {
     if (!ready && server.first_state_sent()) {
       ready = true;
       systemd.ready();
-      systemd.status("running " + describe(scene, options));
+      systemd.status("running " + description);
       log.line("ready: first state published");
     }
     if (const auto period = systemd.watchdog_period()) {
@@ -211,7 +219,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
-    return run(options, scene);
+    return run(options, std::move(scene));
   } catch (const std::exception& e) {
     std::cerr << "rigidd: " << e.what() << '\n';
     return 1;
