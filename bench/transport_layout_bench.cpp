@@ -196,9 +196,9 @@ BENCHMARK(BM_DdsWrite<FlatLayout>)->Arg(100)->Arg(1000)->Arg(10000);
 BENCHMARK(BM_DdsWrite<StructsLayout>)->Arg(100)->Arg(1000)->Arg(10000);
 BENCHMARK(BM_DdsRead<FlatLayout>)->Arg(100)->Arg(1000)->Arg(10000);
 BENCHMARK(BM_DdsRead<StructsLayout>)->Arg(100)->Arg(1000)->Arg(10000);
-BENCHMARK(BM_CodecEncode<CdrCodec>)->Arg(1000);
+BENCHMARK(BM_CodecEncode<CdrCodec>)->Arg(1000)->Arg(100000);
 BENCHMARK(BM_CodecDecode<CdrCodec>)->Arg(1000);
-BENCHMARK(BM_CodecEncode<LcmCodec>)->Arg(1000);
+BENCHMARK(BM_CodecEncode<LcmCodec>)->Arg(1000)->Arg(100000);
 BENCHMARK(BM_CodecDecode<LcmCodec>)->Arg(1000);
 
 }  // namespace

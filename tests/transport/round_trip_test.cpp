@@ -13,6 +13,7 @@
 #include "random_messages.hpp"
 #include "transport/dds/dds_cdr_codec.hpp"
 #include "transport/lcm/lcm_codec.hpp"
+#include "transport/lcm/lcm_convert.hpp"
 
 namespace rigid::transport {
 namespace {
@@ -180,6 +181,30 @@ TEST(DdsRoundTrip, InconsistentMessageIsNotEncoded) {
 }
 TEST(LcmRoundTrip, InconsistentMessageIsNotEncoded) {
   inconsistent_message_is_not_encoded<lcm::Codec>();
+}
+
+// lcm::Codec writes a state straight from the frame (lcm_codec.cpp); lcm-gen's encoder, fed the
+// same state through its own type, is the reference for every byte.
+TEST(LcmStateEncoding, BytesAreThoseOfTheGeneratedEncoder) {
+  lcm::Codec codec;
+  rigid_lcm::WorldState generated;
+  std::vector<std::uint8_t> expected;
+  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
+    RandomMessages random(seed);
+    StateFrame state = random.state(seed == 1 ? 0 : random.below(seed < 40 ? 20 : 3000));
+    if (seed % 5 == 0 && state.body_count() > 0) {
+      state.position[0] = std::numeric_limits<double>::quiet_NaN();
+      state.orientation[0] = -std::numeric_limits<double>::infinity();
+      state.linear_velocity[0] = -0.0;
+    }
+    ASSERT_TRUE(lcm::to_lcm(state, generated));
+    expected.resize(static_cast<std::size_t>(generated.getEncodedSize()));
+    ASSERT_EQ(generated.encode(expected.data(), 0, static_cast<int>(expected.size())),
+              static_cast<int>(expected.size()));
+    const std::span<const std::uint8_t> encoded = codec.encode(state);
+    ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
+  }
 }
 
 }  // namespace
