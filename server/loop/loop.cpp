@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <span>
+#include <stdexcept>
 
 #include "loop/clock.hpp"
 #include "loop/intake.hpp"
@@ -46,7 +47,7 @@ Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
       summaries_(LoopSummary{}),
       frozen_events_(static_cast<std::size_t>(driven_.world().body_count())),
       frozen_reported_(static_cast<std::size_t>(driven_.world().body_count()), 0) {
-  shape_state_frame(driven_.world(), frame_);
+  if (!config_.output_lends_frames) shape_state_frame(driven_.world(), frame_);
   paused_ = config_.mode == Mode::kLockstep;
 }
 
@@ -394,11 +395,20 @@ void Loop::wait_for_publishers() {
 void Loop::publish_state(bool paced) {
   if (paced) wait_for_publishers();
   const std::int64_t tick = driven_.tick();
-  fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame_);
-  // The hash before the hand-over, which may leave frame_ with another state's values.
+  rigid::StateFrame* lent = config_.output_lends_frames ? output_.lend_frame() : nullptr;
+  if (config_.output_lends_frames && lent == nullptr) {
+    throw std::logic_error("Loop: the output was to lend the state frames and lent none");
+  }
+  rigid::StateFrame& frame = lent != nullptr ? *lent : frame_;
+  fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame);
+  // The hash before the hand-over, after which the frame may hold another state's values.
   const bool hash = config_.hash_states && tick != hashed_tick_;
-  const std::uint64_t h = hash ? state_hash(frame_) : 0;
-  output_.hand_over_state(frame_, first_arrival_ns_);
+  const std::uint64_t h = hash ? state_hash(frame) : 0;
+  if (lent != nullptr) {
+    output_.hand_over_lent(first_arrival_ns_);
+  } else {
+    output_.hand_over_state(frame_, first_arrival_ns_);
+  }
   if (hash) {
     JournalEntry entry;
     entry.kind = JournalEntry::Kind::kStateHash;

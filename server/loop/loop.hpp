@@ -63,6 +63,9 @@ struct LoopConfig {
   // Journal a hash of every state published (rigidd --journal): one pass over the state per
   // publish (state_hash.hpp: 18 us for 1000 bodies).
   bool hash_states = false;
+  // The output lends the frame each state is written into (LoopOutput::lend_frame): the loop then
+  // keeps no state frame of its own (a state is ~108 B a body).
+  bool output_lends_frames = false;
 };
 
 class Loop {

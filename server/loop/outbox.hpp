@@ -32,6 +32,13 @@ class LoopOutput : public ReplySink {
   virtual void hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
     offer_state(frame, command_arrival_ns);
   }
+  // A frame to write the next state into in place, for a loop configured with
+  // LoopConfig::output_lends_frames (the server: a free slot of the frames its buses read,
+  // shared_states.hpp), so that the loop keeps no state frame of its own. It has the shape
+  // shape_state_frame gives and stale values; it goes out with hand_over_lent, the next call.
+  // By default none: an output that lends must override both.
+  virtual rigid::StateFrame* lend_frame() { return nullptr; }
+  virtual void hand_over_lent(std::int64_t /*command_arrival_ns*/) {}
   // Waits until every bus has taken the last state offered, so that the next offer replaces
   // none, or until `deadline_ns` (CLOCK_MONOTONIC); true if taken. The loop calls it before a
   // state that must not be skipped (lockstep, step requests). Allocates nothing. By default

@@ -44,6 +44,7 @@ LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) 
   c.wrench_share = static_cast<std::size_t>(scene.limits.max_wrenches_per_source);
   c.spin_ns = options.spin_ns;
   c.hash_states = !options.journal_path.empty();
+  c.output_lends_frames = true;  // Server::lend_frame
   return c;
 }
 
@@ -299,6 +300,18 @@ void Server::offer_state(const rigid::StateFrame& frame, std::int64_t command_ar
 void Server::hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
   if (publishers_.empty()) return;
   const int slot = states_->put_swapped(frame, static_cast<int>(publishers_.size()));
+  for (auto& p : publishers_)
+    p->offer_slot(slot, command_arrival_ns);
+}
+
+rigid::StateFrame* Server::lend_frame() {
+  return &states_->lend();
+}
+
+void Server::hand_over_lent(std::int64_t command_arrival_ns) {
+  // Without a bus the lent slot stays lent, and the next lend_frame gives it again.
+  if (publishers_.empty()) return;
+  const int slot = states_->put_lent(static_cast<int>(publishers_.size()));
   for (auto& p : publishers_)
     p->offer_slot(slot, command_arrival_ns);
 }

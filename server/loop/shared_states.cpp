@@ -26,7 +26,7 @@ int SharedStates::free_slot() const {
   // The acquire pairs with release(): the last reader's reads of the slot are done before the
   // writer overwrites it.
   for (int s = 0; s < slots(); ++s)
-    if (at(s).holders.load(std::memory_order_acquire) == 0) return s;
+    if (s != lent_ && at(s).holders.load(std::memory_order_acquire) == 0) return s;
   // Only a reader holding more than two slots (a bug) or a writer sharing with more readers than
   // were added gets here.
   throw std::logic_error("SharedStates: every slot is held (more holders than readers added?)");
@@ -58,6 +58,20 @@ int SharedStates::put_copied(const rigid::StateFrame& frame, int holders) {
   check_holders(holders);
   const int s = free_slot();
   at(s).frame = frame;  // same shape: the vectors keep their storage
+  share(s, holders);
+  return s;
+}
+
+rigid::StateFrame& SharedStates::lend() {
+  if (lent_ < 0) lent_ = free_slot();
+  return at(lent_).frame;
+}
+
+int SharedStates::put_lent(int holders) {
+  if (lent_ < 0) throw std::logic_error("SharedStates: put_lent without lend");
+  check_holders(holders);
+  const int s = lent_;
+  lent_ = -1;
   share(s, holders);
   return s;
 }

@@ -88,6 +88,14 @@ class PublishingRecorder : public testing::Recorder {
     a_.offer_slot(slot, arrival_ns);
     b_.offer_slot(slot, arrival_ns);
   }
+  // As the server: the loop writes each state into a free slot in place (output_lends_frames).
+  rigid::StateFrame* lend_frame() override { return &states_.lend(); }
+  void hand_over_lent(std::int64_t arrival_ns) override {
+    const int slot = states_.put_lent(2);
+    Recorder::offer_state(states_.frame(slot), arrival_ns);
+    a_.offer_slot(slot, arrival_ns);
+    b_.offer_slot(slot, arrival_ns);
+  }
   void reply(const Reply& r) override {
     a_.reply(r);
     Recorder::reply(r);
@@ -139,8 +147,8 @@ Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std
   return w;
 }
 
-// A loop wired as the server wires it (states to two publishers, replies to one), fed through
-// its queue like the intake feeds it.
+// A loop wired as the server wires it (states written into slots both publishers read, replies to
+// one), fed through its queue like the intake feeds it.
 struct Rig {
   Rig(const scene::Scene& s, Mode m, bool hash_states)
       : shape(shaped(s)),
@@ -154,6 +162,7 @@ struct Rig {
   static LoopConfig config(const scene::Scene& s, Mode m, bool hash_states) {
     LoopConfig c = Harness::config(s, m);
     c.hash_states = hash_states;
+    c.output_lends_frames = true;  // as the server runs it
     return c;
   }
   static rigid::StateFrame shaped(const scene::Scene& s) {

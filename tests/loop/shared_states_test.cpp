@@ -52,6 +52,37 @@ TEST(SharedStates, SwappedFramesGoInWholeAndComeBackShaped) {
   EXPECT_EQ(f.tick, 43) << "a copy leaves the frame as it was";
 }
 
+// The loop's way in rigidd: a free slot's frame filled in place, then shared; no frame of its own.
+TEST(SharedStates, LentFramesAreFilledInPlaceAndShared) {
+  SharedStates s(shaped(3));
+  (void)s.add_reader();
+  (void)s.add_reader();
+  EXPECT_THROW((void)s.put_lent(2), std::logic_error) << "nothing lent";
+  rigid::StateFrame& f = s.lend();
+  EXPECT_EQ(f.ids, shaped(3).ids) << "a lent frame has the slots' shape";
+  EXPECT_EQ(&s.lend(), &f) << "lent again before put_lent: the same slot";
+  f.tick = 42;
+  f.position[8] = 9;
+  EXPECT_THROW((void)s.put_lent(3), std::logic_error) << "more holders than readers";
+  const int slot = s.put_lent(2);
+  EXPECT_EQ(&s.frame(slot), &f) << "shared where it was written: no copy";
+  EXPECT_EQ(s.frame(slot).tick, 42);
+  EXPECT_EQ(s.frame(slot).position[8], 9.0);
+  EXPECT_NE(s.frame(slot).stamp_ns, 0) << "stamped when put";
+  EXPECT_EQ(s.holders(slot), 2);
+  // The next lend is another slot while this one is held, and the lent slot is never given to a
+  // put_swapped / put_copied meanwhile.
+  rigid::StateFrame& g = s.lend();
+  EXPECT_NE(&g, &f);
+  rigid::StateFrame other = shaped(3);
+  for (int k = 0; k < 3; ++k) {
+    const int put = s.put_copied(other, 1);
+    EXPECT_NE(&s.frame(put), &g) << "a put took the lent slot";
+  }
+  EXPECT_THROW((void)s.put_copied(other, 1), std::logic_error)
+      << "all five slots held or lent: the lent one is not free";
+}
+
 TEST(SharedStates, TheWriterFindsAFreeSlotWhileEachReaderHoldsTwo) {
   constexpr int kReaders = 3;
   SharedStates s(shaped(2));
