@@ -29,6 +29,11 @@
 //     carries when every state must arrive, without fast mode's loop spinning on a core of its own
 //     (on a 2-core machine that core is half of what the bus, its cryptography and the
 //     subscriber would otherwise share). The probe's identity needs `control` with --security.
+//   loop_bench memory [--bodies 100000] [--duration 10] [--rigidd PATH]
+//     rigidd's memory: realtime mode on the scene, no clients; from the first state it publishes
+//     (its log's "ready:" line) on for --duration s. Reports, per body, its resident set then
+//     (VmRSS of /proc/PID/status) and at its highest since it started (VmHWM: loading the scene
+//     and building the world included), and the seconds from its start to its first state.
 //
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
 // --rate HZ (the scene's tick rate, default 1000; the timer's period in timer mode),
@@ -125,18 +130,20 @@ struct Options {
 Options parse(int argc, char** argv) {
   Options o;
   if (argc < 2) {
-    throw std::invalid_argument("usage: loop_bench realtime|fast|paced|timer [options]");
+    throw std::invalid_argument("usage: loop_bench realtime|fast|paced|timer|memory [options]");
   }
   o.mode = argv[1];
   if (o.mode == "--help" || o.mode == "-h") {
     o.mode = "help";
     return o;
   }
-  if (o.mode != "realtime" && o.mode != "fast" && o.mode != "paced" && o.mode != "timer") {
-    throw std::invalid_argument("expected realtime, fast, paced or timer, got '" + o.mode + "'");
+  if (o.mode != "realtime" && o.mode != "fast" && o.mode != "paced" && o.mode != "timer" &&
+      o.mode != "memory") {
+    throw std::invalid_argument("expected realtime, fast, paced, timer or memory, got '" + o.mode +
+                                "'");
   }
-  o.bodies = o.mode == "fast" ? 10000 : 1000;
-  o.duration = o.mode == "realtime" ? 60 : o.mode == "paced" ? 10 : 20;
+  o.bodies = o.mode == "fast" ? 10000 : o.mode == "memory" ? 100000 : 1000;
+  o.duration = o.mode == "realtime" ? 60 : o.mode == "paced" || o.mode == "memory" ? 10 : 20;
   if (o.mode == "paced") o.publish_every = 1;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -250,6 +257,7 @@ class Daemon {
     posix_spawn_file_actions_destroy(&actions);
   }
   ~Daemon() { stop(); }
+  pid_t pid() const { return pid_; }
   int stop() {
     if (pid_ <= 0) return status_;
     ::kill(pid_, SIGTERM);
@@ -587,6 +595,46 @@ std::vector<std::string> rigidd_histogram(const std::string& log, const std::str
   return rows;
 }
 
+// A field of /proc/PID/status in bytes ("VmRSS:   1234 kB"), or -1.
+double status_bytes(pid_t pid, const std::string& field) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(field + ":", 0) != 0) continue;
+    return 1024.0 * std::strtod(line.c_str() + field.size() + 1, nullptr);
+  }
+  return -1;
+}
+
+int run_memory(const Options& o, const std::string& scene, const std::vector<std::string>& args,
+               const fs::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  Daemon daemon(o.rigidd, args, dir / "rigidd.err");
+  // Loading a large scene takes a while (10^6 bodies: ~40 s here).
+  while (daemon.stderr_text().find("rigidd: ready:") == std::string::npos) {
+    if (std::chrono::steady_clock::now() - start > 600s) {
+      std::fprintf(stderr, "rigidd published no state within 600 s:\n%s",
+                   daemon.stderr_text().c_str());
+      return 1;
+    }
+    std::this_thread::sleep_for(50ms);
+  }
+  const double first_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::this_thread::sleep_for(std::chrono::duration<double>(o.duration));
+  const double rss = status_bytes(daemon.pid(), "VmRSS");
+  const double peak = status_bytes(daemon.pid(), "VmHWM");
+  if (daemon.stop() != 0 || rss < 0 || peak < 0) {
+    std::fprintf(stderr, "rigidd did not run or stop cleanly:\n%s", daemon.stderr_text().c_str());
+    return 1;
+  }
+  std::printf(
+      "RESULT rigidd_memory bodies %d rss_bytes_per_body %.0f peak_bytes_per_body %.0f "
+      "first_state_s %.1f (scene %s)\n",
+      o.bodies, rss / o.bodies, peak / o.bodies, first_s, scene.c_str());
+  return 0;
+}
+
 int run(const Options& o) {
   if (o.mode == "timer") {
     run_timer(o, 0);
@@ -604,6 +652,14 @@ int run(const Options& o) {
                   ? (", every " + std::to_string(o.loaded_every) + "th with a thruster").c_str()
                   : "",
               o.rate_hz, o.publish_every, o.transport.c_str(), o.duration);
+
+  if (o.mode == "memory") {
+    std::vector<std::string> args{"--scene", scene, "--prefix", prefix, "--transport", o.transport};
+    args.insert(args.end(), o.rigidd_args.begin(), o.rigidd_args.end());
+    const int status = run_memory(o, scene, args, dir);
+    fs::remove_all(dir);
+    return status;
+  }
 
   // Subscribers first, so rigidd's first states find them. Body 0 is the DDS controller's, body 1
   // the LCM one's.
@@ -802,7 +858,7 @@ int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
     if (o.mode == "help") {
       std::printf(
-          "usage: loop_bench realtime|fast|paced|timer [--bodies N] [--duration S] "
+          "usage: loop_bench realtime|fast|paced|timer|memory [--bodies N] [--duration S] "
           "[--transport dds|lcm|dds,lcm]\n"
           "                  [--rate HZ] [--publish-every K] [--point-masses] [--loaded-every K] "
           "[--push-every-ms MS] [--no-subscribers] [--steps N]\n"
@@ -810,7 +866,8 @@ int main(int argc, char** argv) {
           "ARG]... [--security KEYSTORE]\n"
           "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
           "body-step or states per\nsecond a bus sustains (fast), states per second a bus carries "
-          "when every one must arrive (paced),\nthe machine's timer floor (timer). See the comment "
+          "when every one must arrive (paced),\nthe machine's timer floor (timer), rigidd's memory "
+          "per body (memory). See the comment "
           "at the top of bench/loop_bench.cpp.\n");
       return 0;
     }
