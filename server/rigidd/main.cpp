@@ -103,13 +103,10 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   }
   loop::Server server(scene, server_options, log);
   // The server keeps what it needs of the scene (the world its compact copy of the bodies): the
-  // rest, ~400 B a body, goes now rather than stay resident for the daemon's life. What loading
-  // freed (the text, its parsed message, the world's build scratch) goes back to the system too:
-  // below the trim threshold set above, glibc would keep it.
+  // rest, ~400 B a body, goes now rather than stay resident for the daemon's life.
   const std::size_t bodies = scene.world.bodies.size();
   const std::string description = describe(scene, options);
   scene = scene::Scene{};
-  malloc_trim(0);
   // DDS stays on loopback unless a network is configured (CYCLONEDDS_URI).
   const std::string dds_config = options.dds ? transport::dds::ensure_dds_config() : "";
   if (options.dds) {
@@ -143,6 +140,10 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
 
   rigidd::SystemdNotifier systemd;
   server.start();
+  // What loading and starting freed (the scene's text and parsed message, the world's build
+  // scratch, the DDS SceneInfo's) goes back to the system: below the trim threshold set above,
+  // glibc would keep it resident.
+  malloc_trim(0);
   log.line("started: " + description + "; " + buses(options, lcm_url) +
            (options.journal.empty() ? "" : "; journal " + options.journal) +
            (options.dds ? "; " + dds_config : ""));

@@ -318,6 +318,9 @@ class DdsTransport final : public Transport {
     typename DdsTypeOf<Plain>::type sample{};
     if (!borrow(message, scratch, sample)) return PublishResult::kInvalid;
     const dds_return_t result = dds_write(writer, &sample);
+    // SceneInfo goes out once, at start (the topic's durability keeps it for late joiners): the
+    // scratch its names took (129 B a body) need not stay.
+    if constexpr (std::is_same_v<Plain, SceneDescription>) scratch = BorrowScratch{};
     return counter_.count(result == DDS_RETCODE_OK ? PublishResult::kOk : PublishResult::kFailed);
   }
 
