@@ -532,6 +532,16 @@ void parse_text(std::string_view text, std::string_view name, msgs::Scene& msg,
   throw SceneError(std::string(name), 0, 0, "not a valid scene (text format)");
 }
 
+// The parser's warnings, one line each as Scene::warnings has them.
+std::vector<std::string> parser_warnings(const CollectErrors& errors, std::string_view name) {
+  std::vector<std::string> lines;
+  for (const CollectErrors::Entry& w : errors.warnings()) {
+    lines.push_back(std::string(name) + ":" + pos_text(w.pos) +
+                    ": warning: " + printable(w.message));
+  }
+  return lines;
+}
+
 }  // namespace
 
 // The parser can record where it saw every field (a ParseInfoTree), which the loader's errors and
@@ -548,10 +558,7 @@ Scene parse_scene(std::string_view text, std::string_view name) {
     try {
       Scene scene = Loader(name, msg, nullptr).load();
       if (scene.warnings.empty()) {
-        for (const CollectErrors::Entry& w : errors.warnings()) {
-          scene.warnings.push_back(std::string(name) + ":" + pos_text(w.pos) +
-                                   ": warning: " + printable(w.message));
-        }
+        scene.warnings = parser_warnings(errors, name);
         return scene;
       }
     } catch (const SceneError&) {
@@ -563,11 +570,7 @@ Scene parse_scene(std::string_view text, std::string_view name) {
   TextNode::Tree tree;
   parse_text(text, name, msg, errors, &tree);
   Scene scene = Loader(name, msg, &tree).load();
-  std::vector<std::string> warnings;
-  for (const CollectErrors::Entry& w : errors.warnings()) {
-    warnings.push_back(std::string(name) + ":" + pos_text(w.pos) +
-                       ": warning: " + printable(w.message));
-  }
+  const std::vector<std::string> warnings = parser_warnings(errors, name);
   scene.warnings.insert(scene.warnings.begin(), warnings.begin(), warnings.end());
   return scene;
 }
@@ -583,6 +586,9 @@ Scene load_scene(const std::string& path) {
   // large scene twice at once).
   std::string text;
   const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > static_cast<std::uintmax_t>(std::numeric_limits<int>::max())) {
+    throw SceneError(path, 0, 0, "file too large for a scene");
+  }
   if (!ec) text.reserve(static_cast<std::size_t>(size));
   std::array<char, 1 << 16> chunk;
   while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
