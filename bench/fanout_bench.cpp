@@ -1,9 +1,10 @@
 // What handing a state to two buses costs rigidd's loop thread, per state, by number of bodies:
 // the way it was (the state copied into the first bus's triple buffer and swapped into the
 // last's: Publisher::offer then Publisher::hand_over, each publisher with its own buffers), and
-// the way it is (swapped once into a slot both publishers read: SharedStates::put_swapped, then
-// Publisher::offer_slot to each). The publishers run, on a bus that sends nothing, so slots are
-// taken and let go as in rigidd.
+// the shared way (swapped once into a slot both publishers read: SharedStates::put_swapped, then
+// Publisher::offer_slot to each; rigidd's loop now writes the state into such a slot in place,
+// SharedStates::lend, which leaves the same hand-over without the swap). The publishers run, on a
+// bus that sends nothing, so slots are taken and let go as in rigidd.
 //
 //   build/bench/fanout_bench [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
 #include <benchmark/benchmark.h>

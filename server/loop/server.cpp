@@ -297,13 +297,6 @@ void Server::offer_state(const rigid::StateFrame& frame, std::int64_t command_ar
     p->offer_slot(slot, command_arrival_ns);
 }
 
-void Server::hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) {
-  if (publishers_.empty()) return;
-  const int slot = states_->put_swapped(frame, static_cast<int>(publishers_.size()));
-  for (auto& p : publishers_)
-    p->offer_slot(slot, command_arrival_ns);
-}
-
 rigid::StateFrame* Server::lend_frame() {
   return &states_->lend();
 }

@@ -97,8 +97,6 @@ class Server final : private LoopOutput {
 
  private:
   void offer_state(const rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
-  // Swaps the frame into a slot of states_ that every bus's publisher reads: no copy.
-  void hand_over_state(rigid::StateFrame& frame, std::int64_t command_arrival_ns) override;
   // The loop writes each state straight into a free slot of states_ (LoopConfig::
   // output_lends_frames), which hand_over_lent then offers to every bus.
   rigid::StateFrame* lend_frame() override;

@@ -82,12 +82,6 @@ class PublishingRecorder : public testing::Recorder {
     b_.offer_slot(slot, arrival_ns);
     Recorder::offer_state(f, arrival_ns);
   }
-  void hand_over_state(rigid::StateFrame& f, std::int64_t arrival_ns) override {
-    Recorder::offer_state(f, arrival_ns);
-    const int slot = states_.put_swapped(f, 2);
-    a_.offer_slot(slot, arrival_ns);
-    b_.offer_slot(slot, arrival_ns);
-  }
   // As the server: the loop writes each state into a free slot in place (output_lends_frames).
   rigid::StateFrame* lend_frame() override { return &states_.lend(); }
   void hand_over_lent(std::int64_t arrival_ns) override {
