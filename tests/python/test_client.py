@@ -303,9 +303,14 @@ def test_refused_commands_raise_with_rigidds_reason(rigidd: StartDaemon, bus: st
             c.set_rate(0.0)
         with pytest.raises(ValueError, match="frame must be 'world' or 'body'"):
             c.push("puck", [1, 0, 0], frame="local")
-        # None of them moved anything.
+        # None of them moved anything: judged on a state published after the last refusal
+        # (the first state may not have arrived yet on a loaded machine).
+        before = c.latest()
+        after = -1 if before is None else before.tick
+        assert wait_for(lambda: getattr(c.latest(), "tick", -1) > after), \
+            "no state from rigidd within 10 s of the refusals"
         s = c.latest()
-        assert s is not None and np.all(s.velocities == 0)
+        assert np.all(s.velocities == 0), s.velocities
         stats = c.stats()
         assert stats["rejected"]["over_limit"] >= 3 or wait_for(
             lambda: c.stats()["rejected"]["over_limit"] >= 3, 3.0)
