@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "random_messages.hpp"
@@ -205,6 +207,52 @@ TEST(LcmStateEncoding, BytesAreThoseOfTheGeneratedEncoder) {
     const std::span<const std::uint8_t> encoded = codec.encode(state);
     ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
   }
+}
+
+TEST(LcmSceneEncoding, BytesAreThoseOfTheGeneratedEncoder) {
+  lcm::Codec codec;
+  rigid_lcm::SceneInfo generated;
+  std::vector<std::uint8_t> expected;
+  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
+    RandomMessages random(seed);
+    SceneDescription scene = random.scene(seed == 1 ? 0 : random.below(seed < 40 ? 20 : 3000));
+    // The fields the generator leaves at zero, so that a swap among them shows.
+    scene.max_ttl = 0.25 * static_cast<double>(seed);
+    scene.max_wrenches_per_source = static_cast<std::int32_t>(seed) + 7;
+    scene.max_commands_per_second = 1000.5 + static_cast<double>(seed);
+    if (seed % 5 == 0 && scene.body_count() > 0) {
+      scene.masses[0] = std::numeric_limits<double>::quiet_NaN();
+      scene.names[0].clear();
+      scene.scene_name.clear();
+    }
+    ASSERT_TRUE(lcm::to_lcm(scene, generated));
+    expected.resize(static_cast<std::size_t>(generated.getEncodedSize()));
+    ASSERT_EQ(generated.encode(expected.data(), 0, static_cast<int>(expected.size())),
+              static_cast<int>(expected.size()));
+    const std::span<const std::uint8_t> encoded = codec.encode(scene);
+    ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
+  }
+}
+
+TEST(LcmSceneEncoding, AStringHoldingANulOrDisagreeingLengthsAreRefused) {
+  lcm::Codec codec;
+  RandomMessages random(3);
+  const SceneDescription good = random.scene(4);
+  ASSERT_FALSE(codec.encode(good).empty());
+  SceneDescription bad = good;
+  bad.names[2] = std::string("ra\0cket", 7);
+  EXPECT_TRUE(codec.encode(bad).empty());
+  bad = good;
+  bad.integrator.push_back('\0');
+  EXPECT_TRUE(codec.encode(bad).empty());
+  bad = good;
+  bad.inertia.pop_back();
+  EXPECT_TRUE(codec.encode(bad).empty());
+  // And the good one still decodes as itself after the refusals.
+  SceneDescription decoded;
+  ASSERT_EQ(codec.decode(codec.encode(good), decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded, good);
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
 #include "transport/lcm/lcm_codec.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cassert>
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "transport/lcm/lcm_convert.hpp"
@@ -194,6 +196,13 @@ class BigEndian {
   void put(std::int32_t v) { put(static_cast<std::uint32_t>(v)); }
   void put(std::int64_t v) { put(static_cast<std::uint64_t>(v)); }
   void put(double v) { put(std::bit_cast<std::uint64_t>(v)); }
+  // An LCM string: its length with the terminating NUL, its bytes, the NUL.
+  void put(const std::string& s) {
+    put(static_cast<std::int32_t>(s.size() + 1));
+    std::memcpy(at_, s.data(), s.size());
+    at_ += s.size();
+    *at_++ = 0;
+  }
   // A whole array in one loop the compiler turns into vector byte shuffles.
   template <class T>
   void put_all(const std::vector<T>& values) {
@@ -259,8 +268,56 @@ std::span<const std::uint8_t> Codec::encode(const ControlReply& message) {
 std::span<const std::uint8_t> Codec::encode(const StatsReport& message) {
   return encode_with(buffers_->stats, message);
 }
-std::span<const std::uint8_t> Codec::encode(const SceneDescription& message) {
-  return encode_with(buffers_->scene, message);
+// The scene, too, is written straight into its payload (the bytes rigid_lcm::SceneInfo::encode
+// writes; lcm_codec_test holds the two to the same bytes). rigidd republishes it every second on
+// LCM, so through lcm-gen's type it kept a second copy of the scene (~120 B a body: ids, names,
+// masses, inertia, shapes) for its whole life and copied the scene into it once a second.
+std::span<const std::uint8_t> Codec::encode(const SceneDescription& m) {
+  const std::size_t n = m.body_count();
+  if (!m.lengths_agree() || n > kMaxBodies) return {};
+  // lcm-gen encodes a string up to its first NUL but sizes it by size(): it refused a string
+  // holding a NUL (its encode fell short of its size), and so does this.
+  const auto lcm_string = [](const std::string& s) { return s.find('\0') == std::string::npos; };
+  if (!lcm_string(m.scene_name) || !lcm_string(m.integrator) ||
+      !std::all_of(m.names.begin(), m.names.end(), lcm_string)) {
+    return {};
+  }
+  const auto string_size = [](const std::string& s) { return 4 + s.size() + 1; };
+  std::size_t size = 8 + 3 * 4 + string_size(m.scene_name) + 8 + 2 * 4 + 3 * 8 +
+                     string_size(m.integrator) + 3 * 8 + 4 + 8 + n * (4 + 8 + 6 * 8 + 4 + 3 * 8);
+  for (const std::string& name : m.names)
+    size += string_size(name);
+  // lcm_publish takes the size as an unsigned int, lcm-gen as an int.
+  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return {};
+  std::vector<std::uint8_t>& bytes = buffers_->scene.bytes;
+  bytes.resize(size);
+  BigEndian out(bytes.data());
+  out.put(rigid_lcm::SceneInfo::getHash());
+  out.put(static_cast<std::int32_t>(n));
+  out.put(static_cast<std::int32_t>(6 * n));
+  out.put(static_cast<std::int32_t>(3 * n));
+  out.put(m.scene_name);
+  out.put(m.dt);
+  out.put(m.substeps);
+  out.put(m.publish_every);
+  for (const double g : m.gravity)
+    out.put(g);
+  out.put(m.integrator);
+  out.put(m.max_force);
+  out.put(m.max_torque);
+  out.put(m.max_ttl);
+  out.put(m.max_wrenches_per_source);
+  out.put(m.max_commands_per_second);
+  out.put_all(m.ids);
+  for (const std::string& name : m.names)
+    out.put(name);
+  out.put_all(m.masses);
+  out.put_all(m.inertia);
+  for (const ShapeKind kind : m.shape_kinds)
+    out.put(static_cast<std::int32_t>(kind));
+  out.put_all(m.shape_dims);
+  assert(out.at() == bytes.data() + bytes.size());
+  return bytes;
 }
 
 std::span<const std::uint8_t> Codec::encode(const AcceptedCommand& message) {
