@@ -172,6 +172,9 @@ void Server::start() {
       log_.line("cannot publish SceneInfo on " + std::string(to_string(t->bus())));
     }
   }
+  // Each transport keeps what late joiners get (DDS its durable history, LCM the encoded bytes it
+  // sends again every second): this copy (~150 B a body) is no longer needed.
+  scene_info_ = rigid::SceneDescription{};
   for (auto& p : publishers_)
     p->start();
   journal_->start();
@@ -274,8 +277,7 @@ void Server::stop() {
 void Server::log_frozen_bodies() {
   FrozenBody f;
   while (loop_.take_frozen(f)) {
-    const auto i = static_cast<std::size_t>(f.body);
-    const std::string name = i < scene_info_.names.size() ? scene_info_.names[i] : "?";
+    const std::string name = f.body >= 0 && f.body < bodies_.size() ? bodies_.name(f.body) : "?";
     log_.line("body '" + name + "' (id " + std::to_string(f.body) + ") frozen at tick " +
               std::to_string(f.tick) +
               ": its state went non-finite or beyond 1e100 (the integrator diverged under its "
@@ -374,7 +376,7 @@ void Server::housekeeping() {
     if (now >= next_scene_ns) {
       // LCM has no durability: late joiners get the scene within a second.
       for (auto& t : transports_)
-        if (t->bus() == rigid::Bus::kLcm) (void)t->publish(scene_info_);
+        (void)t->republish_scene();  // failures are counted by the transport
       next_scene_ns = now + 1'000'000'000;
     }
     const std::int64_t overruns = loop_.overruns();

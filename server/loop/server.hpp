@@ -114,7 +114,7 @@ class Server final : private LoopOutput {
 
   Log& log_;
   const ServerOptions options_;
-  rigid::SceneDescription scene_info_;
+  rigid::SceneDescription scene_info_;  // until start() has given it to the transports
   BodyDirectory bodies_;
   CommandValidator validator_;
   BoundedQueue<Command> commands_;

@@ -85,6 +85,11 @@ class Transport {
   virtual PublishResult publish(const AcceptedCommand& /*accepted*/) {
     return PublishResult::kWrongRole;
   }
+  // Sends the scene last published again, for subscribers that joined since: LCM has no
+  // durability, so it keeps the encoded scene for this (rigidd calls it once a second). On DDS
+  // the SceneInfo writer's transient-local history already gives late joiners the scene, and this
+  // sends nothing. kInvalid if no scene was published.
+  virtual PublishResult republish_scene() { return PublishResult::kOk; }
   // Client role.
   virtual PublishResult publish(const WrenchCommand& wrench) = 0;
   virtual PublishResult publish(const ControlCommand& control) = 0;

@@ -235,11 +235,13 @@ TEST(LcmSceneEncoding, BytesAreThoseOfTheGeneratedEncoder) {
   }
 }
 
-TEST(LcmSceneEncoding, AStringHoldingANulOrDisagreeingLengthsAreRefused) {
+TEST(LcmSceneEncoding, AStringHoldingANulOrDisagreeingLengthsAreRefusedKeepingTheLastPayload) {
   lcm::Codec codec;
   RandomMessages random(3);
   const SceneDescription good = random.scene(4);
-  ASSERT_FALSE(codec.encode(good).empty());
+  const std::span<const std::uint8_t> kept = codec.encode(good);
+  ASSERT_FALSE(kept.empty());
+  const std::vector<std::uint8_t> good_bytes(kept.begin(), kept.end());
   SceneDescription bad = good;
   bad.names[2] = std::string("ra\0cket", 7);
   EXPECT_TRUE(codec.encode(bad).empty());
@@ -249,6 +251,8 @@ TEST(LcmSceneEncoding, AStringHoldingANulOrDisagreeingLengthsAreRefused) {
   bad = good;
   bad.inertia.pop_back();
   EXPECT_TRUE(codec.encode(bad).empty());
+  // A refused scene leaves the last payload as it was (the LCM transport republishes it).
+  EXPECT_EQ(std::vector<std::uint8_t>(kept.begin(), kept.end()), good_bytes);
   // And the good one still decodes as itself after the refusals.
   SceneDescription decoded;
   ASSERT_EQ(codec.decode(codec.encode(good), decoded), DecodeStatus::kOk);

@@ -23,7 +23,8 @@ class Codec {
   Codec& operator=(const Codec&) = delete;
 
   // The encoded payload (fingerprint first), valid until the next encode of the same type. Empty if
-  // the message's per-body arrays disagree with its body count.
+  // the message's per-body arrays disagree with its body count. A scene refused so leaves the
+  // previous scene's payload valid (the LCM transport republishes it).
   std::span<const std::uint8_t> encode(const StateFrame& message);
   std::span<const std::uint8_t> encode(const WrenchCommand& message);
   std::span<const std::uint8_t> encode(const ControlCommand& message);

@@ -182,7 +182,23 @@ class LcmTransport final : public Transport {
 
   PublishResult publish(const StateFrame& m) override { return send(m); }
   PublishResult publish(const StatsReport& m) override { return send(m); }
-  PublishResult publish(const SceneDescription& m) override { return send(m); }
+  PublishResult publish(const SceneDescription& m) override {
+    constexpr std::size_t i = index_of(Topic::kScene);
+    if (!publishes(role_, Topic::kScene)) return PublishResult::kWrongRole;
+    const std::lock_guard lock(send_mutex_[i]);
+    // A refused scene leaves the codec's bytes, and so the scene republished, as they were.
+    const std::span<const std::uint8_t> payload = codec_.encode(m);
+    if (payload.empty()) return PublishResult::kInvalid;
+    scene_payload_ = payload;  // valid until the next scene is encoded, under this lock
+    return send_payload(i, scene_payload_);
+  }
+  PublishResult republish_scene() override {
+    constexpr std::size_t i = index_of(Topic::kScene);
+    if (!publishes(role_, Topic::kScene)) return PublishResult::kWrongRole;
+    const std::lock_guard lock(send_mutex_[i]);
+    if (scene_payload_.empty()) return PublishResult::kInvalid;
+    return send_payload(i, scene_payload_);
+  }
   PublishResult publish(const ControlReply& m) override { return send(m); }
   PublishResult publish(const WrenchCommand& m) override { return send(m); }
   PublishResult publish(const ControlCommand& m) override { return send(m); }
@@ -212,6 +228,11 @@ class LcmTransport final : public Transport {
     const std::lock_guard lock(send_mutex_[i]);
     const std::span<const std::uint8_t> payload = codec_.encode(message);
     if (payload.empty()) return PublishResult::kInvalid;
+    return send_payload(i, payload);
+  }
+
+  // Holding send_mutex_[i].
+  PublishResult send_payload(std::size_t i, std::span<const std::uint8_t> payload) {
     // lcm_publish returns 0 even when receivers drop the message: loss is only seen by them.
     const int result = lcm_publish(lcm_.get(), channels_[i].c_str(), payload.data(),
                                    static_cast<unsigned int>(payload.size()));
@@ -284,9 +305,11 @@ class LcmTransport final : public Transport {
   TrafficCounter counter_;
   Codec codec_;
   std::array<std::mutex, kAllTopics.size()> send_mutex_;  // guards the codec's encode buffers
-  std::vector<std::unique_ptr<Inbox>> inboxes_;           // outlive lcm_, which calls into them
-  std::unique_ptr<CommandSocket> commands_;               // server role
-  WrenchCommand wrench_;                                  // decoded commands, reused
+  // The last scene published, in the codec's buffer (under the scene's send_mutex_): republished.
+  std::span<const std::uint8_t> scene_payload_;
+  std::vector<std::unique_ptr<Inbox>> inboxes_;  // outlive lcm_, which calls into them
+  std::unique_ptr<CommandSocket> commands_;      // server role
+  WrenchCommand wrench_;                         // decoded commands, reused
   ControlCommand control_;
   LcmHandle lcm_;
   FileDescriptor wake_;
