@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 namespace rigid::loop {
 namespace {
@@ -44,17 +45,20 @@ Checked<T> refuse(RejectReason reason, std::string detail) {
 }  // namespace
 
 BodyDirectory::BodyDirectory(std::vector<std::string> names) : names_(std::move(names)) {
-  sorted_.reserve(names_.size());
-  for (std::size_t i = 0; i < names_.size(); ++i)
-    sorted_.emplace_back(names_[i], static_cast<int>(i));
-  std::sort(sorted_.begin(), sorted_.end());
+  by_name_.resize(names_.size());
+  std::iota(by_name_.begin(), by_name_.end(), 0);
+  // Ties (the world refuses duplicate names) go to the lower id, as (name, id) pairs sorted.
+  std::sort(by_name_.begin(), by_name_.end(), [this](std::int32_t a, std::int32_t b) {
+    const int c = names_[static_cast<std::size_t>(a)].compare(names_[static_cast<std::size_t>(b)]);
+    return c < 0 || (c == 0 && a < b);
+  });
 }
 
 int BodyDirectory::find(std::string_view name) const {
   const auto it = std::lower_bound(
-      sorted_.begin(), sorted_.end(), name,
-      [](const std::pair<std::string, int>& entry, std::string_view n) { return entry.first < n; });
-  return it != sorted_.end() && it->first == name ? it->second : -1;
+      by_name_.begin(), by_name_.end(), name,
+      [this](std::int32_t id, std::string_view n) { return std::string_view(this->name(id)) < n; });
+  return it != by_name_.end() && this->name(*it) == name ? *it : -1;
 }
 
 Checked<Wrench> CommandValidator::check(const rigid::WrenchCommand& w) const {

@@ -28,7 +28,8 @@ class BodyDirectory {
 
  private:
   std::vector<std::string> names_;
-  std::vector<std::pair<std::string, int>> sorted_;  // by name
+  // The ids in the order of their names: 4 B a body, where (name, id) pairs held every name twice.
+  std::vector<std::int32_t> by_name_;
 };
 
 template <class T>

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "loop/sequence_table.hpp"
 
@@ -48,6 +50,24 @@ class Validation : public ::testing::Test {
   BodyDirectory bodies_;
   CommandValidator validator_;
 };
+
+// Every name is found at its id, in a directory given its names out of order; prefixes, extensions
+// and near misses of a name are not found.
+TEST(BodyDirectoryFind, EveryNameAtItsIdAndNothingElse) {
+  std::vector<std::string> names;
+  for (int i = 0; i < 1000; ++i)
+    names.push_back("b" + std::to_string((i * 7919) % 1000));  // b0, b919, b838, ...
+  names.emplace_back("");
+  names.emplace_back("arm/link.1");
+  const BodyDirectory bodies(names);
+  ASSERT_EQ(bodies.size(), static_cast<int>(names.size()));
+  for (int id = 0; id < bodies.size(); ++id) {
+    EXPECT_EQ(bodies.find(names[static_cast<std::size_t>(id)]), id) << names[id];
+    EXPECT_EQ(bodies.name(id), names[static_cast<std::size_t>(id)]);
+  }
+  for (const char* absent : {"b", "b1000", "b01", "a", "c", "arm/link.", "arm/link.10", " b1"})
+    EXPECT_EQ(bodies.find(absent), -1) << absent;
+}
 
 TEST_F(Validation, AGoodWrenchPassesWithItsFields) {
   const Checked<Wrench> c = validator_.check(good());
