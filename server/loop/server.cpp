@@ -17,6 +17,7 @@ namespace {
 
 std::vector<std::string> body_names(const scene::Scene& scene) {
   std::vector<std::string> names;
+  names.reserve(scene.world.bodies.size());
   for (const physics::BodySpec& b : scene.world.bodies)
     names.push_back(b.name);
   return names;
@@ -144,9 +145,12 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
   states_ = std::make_unique<SharedStates>(shape);
   Journal::Options journal;
   journal.path = options.journal_path;
-  journal_ =
-      std::make_unique<Journal>(journal, journal_header(scene, options, scene_info_), log_,
-                                [this](const rigid::AcceptedCommand& a) { publish_accepted(a); });
+  // The header (the scene's text and a record of every body) is built only for a journal file:
+  // without one, it was a copy of the whole scene, built at start and thrown away.
+  journal_ = std::make_unique<Journal>(
+      journal,
+      journal.path.empty() ? msgs::LogHeader{} : journal_header(scene, options, scene_info_), log_,
+      [this](const rigid::AcceptedCommand& a) { publish_accepted(a); });
 }
 
 Server::~Server() {
