@@ -185,12 +185,21 @@ TEST(LcmRoundTrip, InconsistentMessageIsNotEncoded) {
   inconsistent_message_is_not_encoded<lcm::Codec>();
 }
 
-// lcm::Codec writes a state straight from the frame (lcm_codec.cpp); lcm-gen's encoder, fed the
-// same state through its own type, is the reference for every byte.
+// lcm::Codec writes a state and a scene straight from rigid's types (lcm_codec.cpp); lcm-gen's
+// encoder, fed the same message through its own type, is the reference for every byte.
+template <class LcmType, class Message>
+void expect_generated_bytes(lcm::Codec& codec, const Message& message) {
+  LcmType generated;
+  ASSERT_TRUE(lcm::to_lcm(message, generated));
+  std::vector<std::uint8_t> expected(static_cast<std::size_t>(generated.getEncodedSize()));
+  ASSERT_EQ(generated.encode(expected.data(), 0, static_cast<int>(expected.size())),
+            static_cast<int>(expected.size()));
+  const std::span<const std::uint8_t> encoded = codec.encode(message);
+  ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
+}
+
 TEST(LcmStateEncoding, BytesAreThoseOfTheGeneratedEncoder) {
   lcm::Codec codec;
-  rigid_lcm::WorldState generated;
-  std::vector<std::uint8_t> expected;
   for (std::uint64_t seed = 1; seed <= 50; ++seed) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     RandomMessages random(seed);
@@ -200,19 +209,12 @@ TEST(LcmStateEncoding, BytesAreThoseOfTheGeneratedEncoder) {
       state.orientation[0] = -std::numeric_limits<double>::infinity();
       state.linear_velocity[0] = -0.0;
     }
-    ASSERT_TRUE(lcm::to_lcm(state, generated));
-    expected.resize(static_cast<std::size_t>(generated.getEncodedSize()));
-    ASSERT_EQ(generated.encode(expected.data(), 0, static_cast<int>(expected.size())),
-              static_cast<int>(expected.size()));
-    const std::span<const std::uint8_t> encoded = codec.encode(state);
-    ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
+    expect_generated_bytes<rigid_lcm::WorldState>(codec, state);
   }
 }
 
 TEST(LcmSceneEncoding, BytesAreThoseOfTheGeneratedEncoder) {
   lcm::Codec codec;
-  rigid_lcm::SceneInfo generated;
-  std::vector<std::uint8_t> expected;
   for (std::uint64_t seed = 1; seed <= 50; ++seed) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     RandomMessages random(seed);
@@ -226,12 +228,7 @@ TEST(LcmSceneEncoding, BytesAreThoseOfTheGeneratedEncoder) {
       scene.names[0].clear();
       scene.scene_name.clear();
     }
-    ASSERT_TRUE(lcm::to_lcm(scene, generated));
-    expected.resize(static_cast<std::size_t>(generated.getEncodedSize()));
-    ASSERT_EQ(generated.encode(expected.data(), 0, static_cast<int>(expected.size())),
-              static_cast<int>(expected.size()));
-    const std::span<const std::uint8_t> encoded = codec.encode(scene);
-    ASSERT_EQ(std::vector<std::uint8_t>(encoded.begin(), encoded.end()), expected);
+    expect_generated_bytes<rigid_lcm::SceneInfo>(codec, scene);
   }
 }
 
