@@ -231,9 +231,10 @@ Codec::Codec() : buffers_(std::make_unique<Buffers>()) {}
 Codec::~Codec() = default;
 
 // A state is written straight from the frame into its payload: through rigid_lcm::WorldState (as
-// the other types are) it was copied once more on the way, which cost the publisher a second
-// state's memory (10 MB at 10^5 bodies) and a pass over it per state. The bytes are those
-// rigid_lcm::WorldState::encode writes (lcm_codec_test holds the two to the same bytes).
+// the commands, replies and stats still are) it was copied once more on the way, which cost the
+// publisher a second state's memory (10 MB at 10^5 bodies) and a pass over it per state. The bytes
+// are those rigid_lcm::WorldState::encode writes (transport_codec_test holds the two to the same
+// bytes).
 std::span<const std::uint8_t> Codec::encode(const StateFrame& m) {
   const std::size_t n = m.body_count();
   if (!m.lengths_agree() || n > kMaxBodies) return {};
@@ -269,8 +270,8 @@ std::span<const std::uint8_t> Codec::encode(const StatsReport& message) {
   return encode_with(buffers_->stats, message);
 }
 // The scene, too, is written straight into its payload (the bytes rigid_lcm::SceneInfo::encode
-// writes; lcm_codec_test holds the two to the same bytes). rigidd republishes it every second on
-// LCM, so through lcm-gen's type it kept a second copy of the scene (~120 B a body: ids, names,
+// writes; transport_codec_test holds the two to the same bytes). rigidd republishes it every second
+// on LCM, so through lcm-gen's type it kept a second copy of the scene (~120 B a body: ids, names,
 // masses, inertia, shapes) for its whole life and copied the scene into it once a second.
 std::span<const std::uint8_t> Codec::encode(const SceneDescription& m) {
   const std::size_t n = m.body_count();
