@@ -313,7 +313,7 @@ def test_refused_commands_raise_with_rigidds_reason(rigidd: StartDaemon, bus: st
         assert np.all(s.velocities == 0), s.velocities
         stats = c.stats()
         assert stats["rejected"]["over_limit"] >= 3 or wait_for(
-            lambda: c.stats()["rejected"]["over_limit"] >= 3, 3.0)
+            lambda: c.stats()["rejected"]["over_limit"] >= 3)
     assert d.stop() == 0, d.stderr()
 
 
@@ -343,7 +343,7 @@ def test_lockstep_step_500_yields_500_over_publish_every_states(rigidd: StartDae
         c.scene()
     except (rigid.TransportError, TimeoutError) as e:
         pytest.fail(f"{e}; rigidd's stderr:\n{d.stderr()}")
-    with c, c.states(timeout=2.0) as stream:
+    with c, c.states(timeout=10.0) as stream:
         reply = c.step(500)
         ticks: list[int] = []
         deadline = time.monotonic() + 10.0  # rigidd may repeat its last state while idle
