@@ -35,6 +35,9 @@ class DrivenWorld {
   void expect_tick(std::int64_t within_ns) { world_.expect_step(within_ns); }
   // The scene's initial state at tick 0, with no wrenches.
   void reset();
+  // Does ahead the first-step work of the next tick (World::prepare_step: the caches a world
+  // makes on its first step and after a reset). Changes no state.
+  int prepare_tick() { return world_.prepare_step(); }
 
   std::int64_t tick() const { return tick_; }
   const physics::World& world() const { return world_; }

@@ -50,14 +50,30 @@ inline void drift(GenGroup& g, int i, double s) {
   renormalize(b.q);
 }
 
+// The caches of the exact drift over h for entry i's momentum as it is now: what the quiet run
+// reuses until something changes the momentum (invalidate). The step makes them where they are
+// stale, and so does fill_quiet_caches, with these same functions: a cache made ahead is the one
+// the step would have made.
+inline void make_increment(IsoGroup& g, int i, double h) {
+  g.dq.set(i, quat_exp(h * g.motion[i].spin));
+  g.dq_ok[i] = 1;
+}
+inline void make_plan(AxiGroup& g, int i, double h) {
+  const DiagRot& r = g.rot(i);
+  make_axisym_plan(r.I.x(), r.I.z(), g.motion[i].spin, h, g.plan[i]);
+  g.plan_ok[i] = 1;
+}
+// Also gives the whole plan, which the store keeps only in part (rotor_plans.hpp).
+inline void make_plan(GenGroup& g, int i, double h, RotorPlan& plan) {
+  make_rotor_plan(g.rotor_of(i), g.motion[i].spin, h, plan);
+  g.plan.set(i, plan);
+  g.plan_ok[i] = 1;
+}
+
 // Exact rotation over the model's dt, reusing the cached plan while the momentum is untouched.
 inline void drift_cached(AxiGroup& g, int i, double h) {
   Motion& b = g.motion[i];
-  const DiagRot& r = g.rot(i);
-  if (!g.plan_ok[i]) {
-    make_axisym_plan(r.I.x(), r.I.z(), b.spin, h, g.plan[i]);
-    g.plan_ok[i] = 1;
-  }
+  if (!g.plan_ok[i]) make_plan(g, i, h);
   Quat dq;
   advance_axisym(g.plan[i], b.spin, dq);
   b.q = b.q * dq;
@@ -67,9 +83,7 @@ inline void drift_cached(GenGroup& g, int i, double h) {
   Motion& b = g.motion[i];
   RotorPlan plan;
   if (!g.plan_ok[i]) {
-    make_rotor_plan(g.rotor_of(i), b.spin, h, plan);
-    g.plan.set(i, plan);
-    g.plan_ok[i] = 1;
+    make_plan(g, i, h, plan);
   } else {
     plan = g.plan.get(i);
   }
@@ -193,10 +207,7 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
           continue;
         }
       }
-      if (!g.dq_ok[i]) {
-        g.dq.set(i, quat_exp(h * g.motion[i].spin));
-        g.dq_ok[i] = 1;
-      }
+      if (!g.dq_ok[i]) make_increment(g, i, h);
     }
     // The kernel takes whole blocks of increments: the bodies before the first block boundary
     // (none when the range starts on one, as the quiet runs' slices do) and after the last take
@@ -421,6 +432,31 @@ void step_exact(Model& m, bool fourth_order, Share& sh) {
   exact_loaded(m.axi, m, fourth_order, sh.run[AxiGroup::kIndex][1]);
   exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
   exact_loaded(m.gen, m, fourth_order, sh.run[GenGroup::kIndex][1]);
+}
+
+void fill_quiet_caches(Model& m, Share& sh) {
+  const double h = m.dt;
+  std::int64_t made = 0;
+  const Range iso = sh.run[IsoGroup::kIndex][0];
+  for (int i = iso.begin; i < iso.end; ++i) {
+    if (m.iso.dq_ok[i]) continue;
+    make_increment(m.iso, i, h);
+    ++made;
+  }
+  const Range axi = sh.run[AxiGroup::kIndex][0];
+  for (int i = axi.begin; i < axi.end; ++i) {
+    if (m.axi.plan_ok[i]) continue;
+    make_plan(m.axi, i, h);
+    ++made;
+  }
+  const Range gen = sh.run[GenGroup::kIndex][0];
+  RotorPlan plan;
+  for (int i = gen.begin; i < gen.end; ++i) {
+    if (m.gen.plan_ok[i]) continue;
+    make_plan(m.gen, i, h, plan);
+    ++made;
+  }
+  sh.caches_made = made;
 }
 
 void step_hybrid(Model& m, Share& sh, int variant) {

@@ -22,6 +22,10 @@ void step_exact(Model& m, bool fourth_order, Share& sh);
 // hybrid4: quiet bodies take one exact free-rotor step, loaded ones a fourth-order composition
 // whose drifts are cheap (integrate_exact.cpp).
 void step_hybrid(Model& m, Share& sh, int variant);
+// For the integrators whose quiet run caches its exact drift (exact_rotor, exact_rotor4, hybrid4):
+// makes the stale caches of the share's quiet entries, as their next step would, and counts them
+// in sh.caches_made (World::prepare_step).
+void fill_quiet_caches(Model& m, Share& sh);
 
 // The kick of the spin (w_P or h_P, see model.hpp) over s: spin' = rate - decay . spin with the
 // torque's rate constant, solved exactly per principal axis (angular drag as an exact decay):

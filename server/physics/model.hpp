@@ -289,6 +289,8 @@ struct Share {
   Range run[4][2];  // [group][0: quiet, 1: loaded]
   // Body-steps of this share in which a body turned by more than pi (see Model::large_rotations).
   std::int64_t large_rotations = 0;
+  // Caches made by fill_quiet_caches (kernels.hpp) in this share.
+  std::int64_t caches_made = 0;
 
   // Counts a step of angle |w| dt > pi.
   void note_rotation(double dt, const Vec3& w) {

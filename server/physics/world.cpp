@@ -215,7 +215,12 @@ struct World::Impl {
   }
   void set_threads(int n);
   void step(bool another_follows);
+  int prepare_step();
+  // How many chunks this world's steps are cut into (1: the calling thread alone).
+  int step_parts() const;
   void plan_shares(int parts);
+  // Runs fn(impl, share) for every share [0, parts), over the pool when there is more than one.
+  void run_parts(int parts, void (*fn)(Impl&, detail::Share&), bool another_follows);
   void run_share(detail::Share& sh);
   // Called after anything that may change whether a body's loads leave it quiet.
   void loads_changed(int id, bool was_quiet) {
@@ -986,33 +991,71 @@ void World::step(std::int64_t n) {
     impl_->step(i + 1 < n);
 }
 
+int World::Impl::step_parts() const {
+  const int bodies = static_cast<int>(slot.size());
+  const int used = std::max(1, std::min(threads, bodies / kMinBodiesPerThread));
+  // On several threads the step is cut into chunks that the threads claim (pool.hpp): small
+  // enough that a thread which starts late or is preempted leaves little for the others to wait
+  // for, large enough that claiming one (a compare-and-swap) costs nothing beside it.
+  return used == 1 ? 1 : std::min(std::max(bodies / kBodiesPerChunk, used), max_chunks());
+}
+
+void World::Impl::run_parts(int parts, void (*fn)(Impl&, detail::Share&), bool another_follows) {
+  plan_shares(parts);
+  if (parts == 1) {
+    fn(*this, shares[0]);
+    return;
+  }
+  struct Job {
+    Impl* impl;
+    void (*fn)(Impl&, detail::Share&);
+  } job{this, fn};
+  pool.pool->run(
+      [](void* ctx, int c) {
+        const Job& j = *static_cast<const Job*>(ctx);
+        j.fn(*j.impl, j.impl->shares[c]);
+      },
+      &job, parts, another_follows);
+}
+
 // One step; `another_follows`: the pool's workers wait for the next one polling (pool.hpp).
 void World::Impl::step(bool another_follows) {
   Impl& w = *this;
   if (!w.pending.empty()) w.apply_pending_impulses();
   if (!w.regroup_ids.empty()) w.regroup();
-  const int bodies = static_cast<int>(w.slot.size());
-  const int used = std::max(1, std::min(w.threads, bodies / kMinBodiesPerThread));
-  // On several threads the step is cut into chunks that the threads claim (pool.hpp): small
-  // enough that a thread which starts late or is preempted leaves little for the others to wait
-  // for, large enough that claiming one (a compare-and-swap) costs nothing beside it.
-  const int parts =
-      used == 1 ? 1 : std::min(std::max(bodies / kBodiesPerChunk, used), w.max_chunks());
-  w.plan_shares(parts);
-  if (parts == 1) {
-    w.run_share(w.shares[0]);
-  } else {
-    w.pool.pool->run(
-        [](void* ctx, int c) {
-          Impl& impl = *static_cast<Impl*>(ctx);
-          impl.run_share(impl.shares[c]);
-        },
-        &w, parts, another_follows);
-  }
+  const int parts = w.step_parts();
+  w.run_parts(
+      parts, [](Impl& impl, detail::Share& sh) { impl.run_share(sh); }, another_follows);
   for (int k = 0; k < parts; ++k)
     w.model.large_rotations += w.shares[k].large_rotations;
   ++w.steps;
   w.guard();
+}
+
+int World::prepare_step() {
+  return impl_->prepare_step();
+}
+
+int World::Impl::prepare_step() {
+  switch (integrator->id) {
+    case IntegratorId::kExactRotor:
+    case IntegratorId::kExactRotor4:
+    case IntegratorId::kHybrid4:
+    case IntegratorId::kHybrid4Suzuki:
+      break;
+    default:
+      return 0;  // nothing cached
+  }
+  // The quiet runs as the step will see them (placing bodies moves no state).
+  if (!regroup_ids.empty()) regroup();
+  const int parts = step_parts();
+  run_parts(
+      parts, [](Impl& impl, detail::Share& sh) { detail::fill_quiet_caches(impl.model, sh); },
+      false);
+  std::int64_t made = 0;
+  for (int k = 0; k < parts; ++k)
+    made += shares[k].caches_made;
+  return static_cast<int>(made);
 }
 
 void World::set_threads(int n) {

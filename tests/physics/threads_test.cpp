@@ -244,6 +244,106 @@ TEST(WorldThreads, ACopySteppingAllocatesNothing) {
   }
 }
 
+// World::prepare_step makes ahead exactly the caches the next step would make first: the quiet
+// isotropic, axisymmetric and general bodies', for the integrators that cache their exact drift,
+// once each until something makes them stale, without allocating.
+TEST(WorldPrepareStep, MakesEachStaleCacheOfAQuietBodyOnce) {
+  const auto spec = [](const std::string& integrator, int threads) {
+    WorldSpec ws;
+    ws.dt = 1e-3;
+    ws.integrator = integrator;
+    ws.threads = threads;
+    ws.g_W = {0, 0, -9.81};
+    // 300 each (a world large enough to split over threads): 0 point masses, 1 isotropic, 2
+    // axisymmetric, 3 general, all quiet; 4 general with a thruster, 5 axisymmetric with drag.
+    for (int i = 0; i < 6 * 300; ++i) {
+      const int kind = i % 6;
+      const Vec3 I = kind == 1                ? Vec3(2, 2, 2)
+                     : kind == 2 || kind == 5 ? Vec3(1, 1, 1.5)
+                                              : Vec3(1, 2, 3);
+      BodySpec b = body("b" + std::to_string(i), I, {0.3 + 1e-3 * i, -0.2, 2.0});
+      b.has_inertia = kind != 0;
+      if (kind == 5) b.angular_drag = 0.05;
+      ws.bodies.push_back(b);
+      if (kind == 4) {
+        ws.loads.push_back(LoadSpec{
+            .body = i, .force = {0, 0, 4}, .p_BoQ_B = {0.4, 0.1, 0}, .frame = Frame::kBody});
+      }
+    }
+    return ws;
+  };
+  const int quiet = 3 * 300;
+  for (const physics::IntegratorInfo& info : physics::all_integrators()) {
+    const bool caches = info.id == physics::IntegratorId::kExactRotor ||
+                        info.id == physics::IntegratorId::kExactRotor4 ||
+                        info.id == physics::IntegratorId::kHybrid4;
+    for (int threads : {1, 3}) {
+      SCOPED_TRACE(std::string(info.name) + " on " + std::to_string(threads) + " threads");
+      World w(spec(std::string(info.name), threads));
+      const long before = allocation_count();
+      EXPECT_EQ(w.prepare_step(), caches ? quiet : 0);
+      EXPECT_EQ(w.prepare_step(), 0);  // nothing stale any more
+      w.step(3);
+      EXPECT_EQ(w.prepare_step(), 0);  // the steps kept them
+      // set_state makes one body's stale (a general body: id 3).
+      BodyState s = w.state(3);
+      s.w_WB.x() += 0.1;
+      w.set_state(3, s);
+      EXPECT_EQ(w.prepare_step(), caches ? 1 : 0);
+      // A body pushed for a while, then let go: its cache went stale while it was loaded, and it
+      // is back among the quiet ones (an isotropic body: id 7).
+      w.add_torque(7, {0, 0.5, 0}, Frame::kBody);
+      w.step(2);
+      EXPECT_EQ(w.prepare_step(), 0);  // loaded: it caches nothing
+      w.clear_applied(7);
+      EXPECT_EQ(w.prepare_step(), caches ? 1 : 0);
+      w.step();
+      w.reset();
+      EXPECT_EQ(w.prepare_step(), caches ? quiet : 0);
+      EXPECT_EQ(allocation_count(), before);
+      EXPECT_EQ(w.step_count(), 0);
+    }
+  }
+}
+
+// What prepare_step makes is what the step would have made: a world prepared before its first
+// step and whenever loads, states or a reset made caches stale steps to the very bits of one that
+// never is, for every integrator and thread count.
+TEST(WorldPrepareStep, ChangesNoState) {
+  const int n = 3 * World::kMinBodiesPerThread + 37;
+  std::vector<std::string> names{""};
+  for (const physics::IntegratorInfo& info : physics::all_integrators())
+    names.emplace_back(info.name);
+  const auto run = [n](const std::string& integrator, int threads, bool prepare) {
+    World w(crowd(n, integrator, threads));
+    std::vector<std::uint64_t> hashes;
+    for (int round = 0; round < 3; ++round) {
+      if (prepare) w.prepare_step();
+      drive(w, 20);
+      if (prepare) w.prepare_step();
+      w.step(5);
+      BodyState s = w.state(round);
+      s.w_WB += Vec3(0.2, 0, -0.1);
+      w.set_state(round, s);
+      if (prepare) w.prepare_step();
+      drive(w, 15);
+      hashes.push_back(hash_of(w));
+      if (round == 1) {
+        w.reset();
+        if (prepare) w.prepare_step();
+      }
+    }
+    return hashes;
+  };
+  for (const std::string& integrator : names) {
+    const std::vector<std::uint64_t> plain = run(integrator, 1, false);
+    for (int threads : {1, 3}) {
+      EXPECT_EQ(run(integrator, threads, true), plain)
+          << "'" << integrator << "' with " << threads << " threads";
+    }
+  }
+}
+
 // A body's trajectory is the same alone and in a crowd whose other bodies' loads start and stop
 // (so that it changes place in its model's arrays many times), for every body model.
 TEST(WorldRegroup, ABodyMovesBetweenRunsWithoutChangingItsTrajectory) {
