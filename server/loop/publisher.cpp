@@ -1,5 +1,11 @@
 #include "loop/publisher.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <cstdio>
+#include <cstring>
+#include <ctime>
 #include <string>
 
 #include "loop/clock.hpp"
@@ -174,9 +180,49 @@ void Publisher::run() {
     // The state first: a client that gets a step's reply finds its state already sent.
     send_state();
     send_replies();
+    if (const int priority = realtime_priority_.load(std::memory_order_acquire); priority > 0)
+      mind_realtime_share(priority);
     if (stopping) return;
     work_.wait(seen, std::memory_order_acquire);
   }
+}
+
+void Publisher::watch_realtime_share(int priority) {
+  realtime_priority_.store(priority, std::memory_order_release);
+  wake();  // the window starts now, not at the next state
+}
+
+void Publisher::mind_realtime_share(int priority) {
+  timespec cpu{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu) != 0) return;
+  const std::int64_t cpu_ns = std::int64_t{cpu.tv_sec} * 1'000'000'000 + cpu.tv_nsec;
+  const RealtimeShare::Change change = realtime_share_.update(cpu_ns, monotonic_ns());
+  if (change == RealtimeShare::Change::kNone) return;
+  const bool down = change == RealtimeShare::Change::kStepDown;
+  if (down) priority_step_downs_.fetch_add(1, std::memory_order_relaxed);
+  sched_param param{};
+  param.sched_priority = down ? 0 : priority;
+  const int error = pthread_setschedparam(pthread_self(), down ? SCHED_OTHER : SCHED_FIFO, &param);
+  // A publisher whose load comes and goes could change every few seconds for hours.
+  constexpr int kMaxLogged = 10;
+  if (priority_changes_logged_ > kMaxLogged) return;
+  ++priority_changes_logged_;
+  char percent[16];
+  std::snprintf(percent, sizeof percent, "%.0f%%", 100.0 * realtime_share_.last_share());
+  std::string line = "publisher " + std::string(to_string(transport_.bus())) + ": took " + percent +
+                     " of a CPU over the last second";
+  if (error != 0) {
+    line += std::string(", but could not change its priority (") + std::strerror(error) + ")";
+  } else if (down) {
+    line += " at real-time priority, more than " + std::to_string(int(kRealtimeLimit * 100)) +
+            "%: at normal priority until it takes less than " +
+            std::to_string(int(kRealtimeResume * 100)) +
+            "%, so that the loop's CPU keeps time for its other threads";
+  } else {
+    line += ": back at SCHED_FIFO priority " + std::to_string(priority);
+  }
+  if (priority_changes_logged_ > kMaxLogged) line += " (further changes are not logged)";
+  log_.line(line);
 }
 
 }  // namespace rigid::loop

@@ -16,6 +16,7 @@
 #include "loop/doorbell.hpp"
 #include "loop/histogram.hpp"
 #include "loop/log.hpp"
+#include "loop/realtime_share.hpp"
 #include "loop/shared_states.hpp"
 #include "transport/transport.hpp"
 
@@ -57,6 +58,18 @@ class Publisher {
   bool wait_taken(std::int64_t deadline_ns);
   // Any thread: queues a reply; false (and counted) if the reply queue is full.
   bool reply(const Reply& reply);
+  // Says that the publisher's thread was just put at SCHED_FIFO `priority` (Server). From then on
+  // the thread steps down to normal priority while it takes more than kRealtimeLimit of a CPU over
+  // a second, and back up once it takes less than kRealtimeResume (realtime_share.hpp: a
+  // publisher of a large world would otherwise leave the loop's CPU no time for its other threads,
+  // and the kernel would stop the loop to give them some). Each change is logged.
+  static constexpr double kRealtimeLimit = 0.25;
+  static constexpr double kRealtimeResume = 0.10;
+  void watch_realtime_share(int priority);
+  // How often the thread stepped down to normal priority so far.
+  std::int64_t priority_step_downs() const {
+    return priority_step_downs_.load(std::memory_order_relaxed);
+  }
 
   std::int64_t states_sent() const { return states_sent_.load(std::memory_order_relaxed); }
   std::int64_t states_skipped() const { return states_skipped_.load(std::memory_order_relaxed); }
@@ -69,6 +82,8 @@ class Publisher {
   void run();
   void wake();
   void send_replies();
+  // Publisher thread: the realtime share's window (watch_realtime_share), and its changes.
+  void mind_realtime_share(int priority);
   // Publisher thread: sends the state in the mailbox, if any.
   void send_state();
 
@@ -90,7 +105,11 @@ class Publisher {
   std::atomic<std::int64_t> states_sent_{0};
   std::atomic<std::int64_t> states_skipped_{0};
   std::atomic<std::int64_t> replies_dropped_{0};
-  bool logged_send_failure_ = false;  // publisher thread only
+  bool logged_send_failure_ = false;       // publisher thread only
+  std::atomic<int> realtime_priority_{0};  // 0: not at real-time priority
+  RealtimeShare realtime_share_{kRealtimeLimit, kRealtimeResume, 1'000'000'000};  // its thread
+  int priority_changes_logged_ = 0;                                               // its thread
+  std::atomic<std::int64_t> priority_step_downs_{0};
   std::thread thread_;
 };
 

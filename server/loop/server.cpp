@@ -215,11 +215,16 @@ void Server::set_priorities() {
   }
   // The publishers just below the loop: a state (or a command's effect) then leaves within
   // ~100 us of its tick even when other processes keep the CPUs busy, instead of waiting for
-  // the scheduler's next slice. They sleep between states and use ~1-2% of a core each.
+  // the scheduler's next slice. They sleep between states and use ~1-2% of a core each in a small
+  // world; one that takes more than a quarter of the CPU (a large world's states) steps down to
+  // normal priority while it does (Publisher::watch_realtime_share).
   param.sched_priority = options_.fifo_priority - 1;
   bool publishers = true;
-  for (auto& p : publishers_)
-    publishers = pthread_setschedparam(p->native_handle(), SCHED_FIFO, &param) == 0 && publishers;
+  for (auto& p : publishers_) {
+    const bool ok = pthread_setschedparam(p->native_handle(), SCHED_FIFO, &param) == 0;
+    if (ok) p->watch_realtime_share(param.sched_priority);
+    publishers = ok && publishers;
+  }
   // --rt-workers: a worker of normal priority preempted in the middle of its chunk holds the
   // step until the scheduler gives it its CPU back (the loop cannot take a chunk already begun),
   // so a busy host's other processes stretch the step. At SCHED_FIFO they cannot; the worker
@@ -409,7 +414,8 @@ std::string Server::closing_line() const {
   for (const auto& p : publishers_) {
     const std::string bus(to_string(p->bus()));
     line += " " + bus + "_states_sent=" + std::to_string(p->states_sent()) + " " + bus +
-            "_states_skipped=" + std::to_string(p->states_skipped());
+            "_states_skipped=" + std::to_string(p->states_skipped()) + " " + bus +
+            "_priority_step_downs=" + std::to_string(p->priority_step_downs());
     const Histogram& h = p->command_to_state();
     line += " " + bus + "_command_to_state_us p50=" + us(h.percentile(0.5)) +
             " p99=" + us(h.percentile(0.99)) + " max=" + us(h.max()) +

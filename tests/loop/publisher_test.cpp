@@ -5,9 +5,14 @@
 #include "loop/publisher.hpp"
 
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 
+#include <atomic>
 #include <chrono>
+#include <ctime>
 #include <mutex>
+#include <string>
 #include <string_view>
 #include <thread>
 #include <vector>
@@ -158,6 +163,92 @@ TEST(Publisher, TwoBusesShareEachStateAndLetGoOfEverySlot) {
   const std::lock_guard lb(fast.mutex);
   EXPECT_EQ(slow.states.back().stamp_ns, fast.states.back().stamp_ns);
   EXPECT_NE(slow.states.back().stamp_ns, 0);
+}
+
+// A transport that spends `busy_us` of CPU time on each state (a large world's encoding).
+class BusyTransport final : public testing::NullTransport {
+ public:
+  using NullTransport::publish;
+  transport::PublishResult publish(const rigid::StateFrame&) override {
+    timespec t0{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+    for (;;) {
+      timespec t{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+      const long us = (t.tv_sec - t0.tv_sec) * 1'000'000L + (t.tv_nsec - t0.tv_nsec) / 1000;
+      if (us >= busy_us.load()) break;
+    }
+    return ok();
+  }
+  std::atomic<long> busy_us{0};
+};
+
+class LinesLog final : public Log {
+ public:
+  void line(std::string_view text) override {
+    const std::lock_guard lock(mutex);
+    lines.emplace_back(text);
+  }
+  std::vector<std::string> taken() {
+    const std::lock_guard lock(mutex);
+    return lines;
+  }
+  std::mutex mutex;
+  std::vector<std::string> lines;
+};
+
+// A publisher at real-time priority that takes most of a CPU (states that cost 4 ms each, offered
+// every 2 ms) steps down to normal priority within its first window or two and says so; once its
+// states are cheap again it steps back up (or says why it could not: without the privilege).
+TEST(Publisher, StepsDownFromRealTimeWhileItTakesMoreThanItsShareOfACpu) {
+  const rigid::StateFrame shape = make_shape();
+  BusyTransport bus;
+  LinesLog log;
+  Publisher publisher(bus, shape, log);
+  publisher.start();
+  constexpr int kPriority = 1;
+  sched_param param{};
+  param.sched_priority = kPriority;
+  const bool privileged = pthread_setschedparam(publisher.native_handle(), SCHED_FIFO, &param) == 0;
+  publisher.watch_realtime_share(kPriority);
+  const auto policy = [&] {
+    int p = -1;
+    sched_param sp{};
+    EXPECT_EQ(pthread_getschedparam(publisher.native_handle(), &p, &sp), 0);
+    return p;
+  };
+  const auto offer_until = [&](auto done, std::chrono::milliseconds every) {
+    rigid::StateFrame frame = shape;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    for (std::int64_t t = 1; !done() && std::chrono::steady_clock::now() < deadline; ++t) {
+      fill(t, frame);
+      publisher.offer(frame);
+      std::this_thread::sleep_for(every);
+    }
+  };
+  bus.busy_us = 4000;
+  offer_until([&] { return publisher.priority_step_downs() > 0; }, std::chrono::milliseconds(2));
+  ASSERT_EQ(publisher.priority_step_downs(), 1);
+  EXPECT_EQ(policy(), SCHED_OTHER);
+  bus.busy_us = 0;
+  offer_until([&] { return log.taken().size() >= 2; }, std::chrono::milliseconds(20));
+  const int policy_after = policy();
+  publisher.stop();
+  const std::vector<std::string> lines = log.taken();
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].rfind("publisher dds: took ", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find("of a CPU over the last second at real-time priority, more than 25%: "
+                          "at normal priority until it takes less than 10%"),
+            std::string::npos)
+      << lines[0];
+  if (privileged) {
+    EXPECT_NE(lines[1].find(": back at SCHED_FIFO priority 1"), std::string::npos) << lines[1];
+    EXPECT_EQ(policy_after, SCHED_FIFO);
+  } else {
+    EXPECT_NE(lines[1].find("but could not change its priority"), std::string::npos) << lines[1];
+    EXPECT_EQ(policy_after, SCHED_OTHER);
+  }
+  EXPECT_EQ(publisher.priority_step_downs(), 1);
 }
 
 }  // namespace
