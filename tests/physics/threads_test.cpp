@@ -310,11 +310,11 @@ TEST(WorldPrepareStep, MakesEachStaleCacheOfAQuietBodyOnce) {
 // step and whenever loads, states or a reset made caches stale steps to the very bits of one that
 // never is, for every integrator and thread count.
 TEST(WorldPrepareStep, ChangesNoState) {
-  const int n = 3 * World::kMinBodiesPerThread + 37;
+  constexpr int n = 3 * World::kMinBodiesPerThread + 37;
   std::vector<std::string> names{""};
   for (const physics::IntegratorInfo& info : physics::all_integrators())
     names.emplace_back(info.name);
-  const auto run = [n](const std::string& integrator, int threads, bool prepare) {
+  const auto run = [](const std::string& integrator, int threads, bool prepare) {
     World w(crowd(n, integrator, threads));
     std::vector<std::uint64_t> hashes;
     for (int round = 0; round < 3; ++round) {
