@@ -35,6 +35,10 @@
 //     (VmRSS of /proc/PID/status) and at its highest since it started (VmHWM: loading the scene
 //     and building the world included), and the seconds from its start to its first state.
 //
+// realtime, fast and paced also report the CPU each of rigidd's threads took over the run, by
+// thread name (RESULT thread_cpu_percent): the loop, its publishers and the step's workers, which
+// decide between them whether ticks are late.
+//
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
 // --rate HZ (the scene's tick rate, default 1000; the timer's period in timer mode),
 // --publish-every K (a state every K ticks, default 10), --point-masses (weightless point masses
@@ -595,6 +599,48 @@ std::vector<std::string> rigidd_histogram(const std::string& log, const std::str
   return rows;
 }
 
+// CPU time so far (user + system, in clock ticks) of each of process pid's threads, summed by
+// thread name: rigidd names its own (rigid-loop, rigid-pub-dds, rigid-step-1, ...), Cyclone DDS
+// its own (recv, tev, dq.builtins, ...). proc(5): /proc/PID/task/TID/stat, the name between the
+// first '(' and the last ')', utime and stime fields 14 and 15.
+std::map<std::string, long> thread_cpu_ticks(pid_t pid) {
+  std::map<std::string, long> ticks;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    std::ifstream in(e.path() / "stat");
+    std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t open = stat.find('('), close = stat.rfind(')');
+    if (open == std::string::npos || close == std::string::npos || close < open) continue;
+    std::istringstream fields(stat.substr(close + 1));
+    std::string f;
+    long utime = 0, stime = 0;
+    for (int k = 3; k <= 15 && fields >> f; ++k) {
+      if (k == 14) utime = std::atol(f.c_str());
+      if (k == 15) stime = std::atol(f.c_str());
+    }
+    ticks[stat.substr(open + 1, close - open - 1)] += utime + stime;
+  }
+  return ticks;
+}
+
+// "RESULT thread_cpu_percent NAME P ...": each thread name's share of one CPU between two
+// readings of thread_cpu_ticks `seconds` apart, the largest first, those under 0.5% left out.
+void print_thread_cpu(const std::map<std::string, long>& before,
+                      const std::map<std::string, long>& after, double seconds) {
+  const double per_tick = 100.0 / (static_cast<double>(::sysconf(_SC_CLK_TCK)) * seconds);
+  std::vector<std::pair<double, std::string>> shares;
+  for (const auto& [name, t] : after) {
+    const auto b = before.find(name);
+    const double percent = static_cast<double>(t - (b == before.end() ? 0 : b->second)) * per_tick;
+    if (percent >= 0.5) shares.emplace_back(percent, name);
+  }
+  std::sort(shares.rbegin(), shares.rend());
+  std::printf("RESULT thread_cpu_percent");
+  for (const auto& [percent, name] : shares)
+    std::printf(" %s %.1f", name.c_str(), percent);
+  std::printf(" (rigidd's threads, %% of one CPU over %.1f s)\n", seconds);
+}
+
 // A field of /proc/PID/status in bytes ("VmRSS:   1234 kB"), or -1.
 double status_bytes(pid_t pid, const std::string& field) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
@@ -693,6 +739,7 @@ int run(const Options& o) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + std::chrono::duration<double>(o.duration);
+  const std::map<std::string, long> cpu0 = thread_cpu_ticks(daemon.pid());
   std::vector<std::int64_t> states0;
   for (auto& p : probes)
     states0.push_back(p->states());
@@ -732,6 +779,7 @@ int run(const Options& o) {
     std::this_thread::sleep_until(end);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::map<std::string, long> cpu1 = thread_cpu_ticks(daemon.pid());
   std::vector<std::int64_t> received;
   for (std::size_t k = 0; k < probes.size(); ++k)
     received.push_back(probes[k]->states() - states0[k]);
@@ -751,6 +799,7 @@ int run(const Options& o) {
                 static_cast<long long>(received[k]), static_cast<double>(received[k]) / wall);
   }
   std::printf("\n");
+  print_thread_cpu(cpu0, cpu1, wall);
   const double loop_wall = fig("wall_s");
   const double ns_per_body_step = loop_wall * 1e9 / (fig("ticks") * o.bodies);
   // "both" rather than "dds,lcm" in the CSV.

@@ -4,6 +4,7 @@
 
 #include "loop/clock.hpp"
 #include "records/log_records.hpp"
+#include "util/thread_name.hpp"
 
 namespace rigid::loop {
 
@@ -28,6 +29,7 @@ Journal::~Journal() {
 void Journal::start() {
   if (thread_.joinable()) return;
   thread_ = std::thread([this] { run(); });
+  util::name_thread(thread_, "rigid-journal");
 }
 
 void Journal::stop() {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "loop/clock.hpp"
+#include "util/thread_name.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -70,6 +71,7 @@ Publisher::~Publisher() {
 
 void Publisher::start() {
   thread_ = std::thread([this] { run(); });
+  util::name_thread(thread_, "rigid-pub-" + std::string(to_string(transport_.bus())));
 }
 
 void Publisher::stop() {

@@ -11,6 +11,7 @@
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
 #include "records/log_records.hpp"
+#include "util/thread_name.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -183,7 +184,9 @@ void Server::start() {
     p->start();
   journal_->start();
   housekeeping_thread_ = std::thread([this] { housekeeping(); });
+  util::name_thread(housekeeping_thread_, "rigid-house");
   loop_thread_ = std::thread([this] { loop_.run(); });
+  util::name_thread(loop_thread_, "rigid-loop");
   if (options_.mode == rigid::Mode::kRealtime && options_.realtime_priority) {
     set_priorities();
   }

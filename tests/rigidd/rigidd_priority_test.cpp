@@ -1,8 +1,9 @@
 // Where rigidd's threads run in realtime mode, read from /proc while it runs: the loop at
 // SCHED_FIFO 10 and each bus's publisher at 9, all pinned to one CPU; the physics pool's worker
-// at normal priority on the other CPUs, or with --rt-workers at SCHED_FIFO 8 there. Without the
-// privilege to take real-time priority (not root), nothing may be at SCHED_FIFO. Both buses open
-// (the default), so this needs the network set up like the other rigidd tests.
+// at normal priority on the other CPUs, or with --rt-workers at SCHED_FIFO 8 there. Each thread
+// carries the name of its role (util/thread_name.hpp), which is checked against what it does.
+// Without the privilege to take real-time priority (not root), nothing may be at SCHED_FIFO. Both
+// buses open (the default), so this needs the network set up like the other rigidd tests.
 #include <gtest/gtest.h>
 #include <sched.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -24,6 +26,7 @@ using namespace std::chrono_literals;
 
 struct ThreadInfo {
   int tid = 0;
+  std::string name;     // its comm (proc(5)), as top -H shows it
   int policy = 0;       // SCHED_OTHER 0, SCHED_FIFO 1
   int rt_priority = 0;  // 1 .. 99 at SCHED_FIFO
   cpu_set_t cpus{};
@@ -46,6 +49,8 @@ std::vector<ThreadInfo> threads_of(pid_t pid) {
     if (f.size() < 39) continue;
     ThreadInfo t;
     t.tid = std::stoi(e.path().filename().string());
+    const std::size_t open = stat.find('(');
+    t.name = stat.substr(open + 1, close - open - 1);
     t.rt_priority = std::stoi(f[40 - 3]);
     t.policy = std::stoi(f[41 - 3]);
     CPU_ZERO(&t.cpus);
@@ -88,6 +93,14 @@ void check_layout(bool rt_workers) {
   const std::string err = daemon.stderr_text();
   const std::vector<ThreadInfo> threads = threads_of(daemon.pid());
   ASSERT_GE(threads.size(), 5u);  // main, loop, two publishers, the worker, the buses' own
+  // Every thread of rigid's own, once, by the name of its role (Cyclone and liblcm name theirs).
+  std::multiset<std::string> names;
+  for (const ThreadInfo& t : threads)
+    names.insert(t.name);
+  for (const char* role : {"rigid-loop", "rigid-pub-dds", "rigid-pub-lcm", "rigid-step-1",
+                           "rigid-dds-in", "rigid-lcm-in", "rigid-house", "rigid-journal"}) {
+    EXPECT_EQ(names.count(role), 1u) << role;
+  }
 
   if (err.find("no real-time priority") != std::string::npos ||
       err.find("cannot pin it to one CPU") != std::string::npos) {
@@ -102,6 +115,7 @@ void check_layout(bool rt_workers) {
     if (t.policy != SCHED_FIFO) continue;
     if (t.rt_priority == 10) {
       ++loops;
+      EXPECT_EQ(t.name, "rigid-loop");
       ASSERT_EQ(CPU_COUNT(&t.cpus), 1) << "the loop thread is pinned to one CPU";
       for (int c = 0; c < CPU_SETSIZE; ++c)
         if (CPU_ISSET(c, &t.cpus)) loop_cpu = c;
@@ -112,10 +126,12 @@ void check_layout(bool rt_workers) {
     if (t.policy != SCHED_FIFO || t.rt_priority == 10) continue;
     if (t.rt_priority == 9) {
       ++publishers;
+      EXPECT_TRUE(t.name == "rigid-pub-dds" || t.name == "rigid-pub-lcm") << t.name;
       EXPECT_TRUE(CPU_COUNT(&t.cpus) == 1 && CPU_ISSET(loop_cpu, &t.cpus))
           << "a publisher off the loop's CPU";
     } else {
       EXPECT_EQ(t.rt_priority, 8) << "thread " << t.tid;
+      EXPECT_EQ(t.name, "rigid-step-1");
       ++workers;
       // Never on the loop's CPU: there it would only run behind the loop.
       EXPECT_FALSE(CPU_ISSET(loop_cpu, &t.cpus)) << "a real-time worker on the loop's CPU";

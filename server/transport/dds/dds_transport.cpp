@@ -21,6 +21,7 @@
 #include "transport/dds/dds_security.hpp"
 #include "transport/message_topic.hpp"
 #include "transport/traffic_counter.hpp"
+#include "util/thread_name.hpp"
 
 namespace rigid::transport::dds {
 
@@ -219,6 +220,7 @@ class DdsTransport final : public Transport {
     create<AcceptedCommand>(names, options);
 
     thread_ = std::thread([this] { receive_loop(); });
+    util::name_thread(thread_, "rigid-dds-in");
   }
 
   ~DdsTransport() override {

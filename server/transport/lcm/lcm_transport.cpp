@@ -19,6 +19,7 @@
 #include "transport/lcm/lcm_handle.hpp"
 #include "transport/message_topic.hpp"
 #include "transport/traffic_counter.hpp"
+#include "util/thread_name.hpp"
 
 namespace rigid::transport::lcm {
 namespace {
@@ -156,6 +157,7 @@ class LcmTransport final : public Transport {
           std::vector<std::string>{channels_[index_of(Topic::kWrench)],
                                    channels_[index_of(Topic::kControl)]});
       thread_ = std::thread([this, &receiver] { receive_commands(receiver); });
+      util::name_thread(thread_, "rigid-lcm-in");
       return;
     }
     subscribe<StateFrame>(intake);
@@ -166,6 +168,7 @@ class LcmTransport final : public Transport {
     subscribe<SceneDescription>(intake);
     subscribe<AcceptedCommand>(intake);
     thread_ = std::thread([this] { receive_loop(); });
+    util::name_thread(thread_, "rigid-lcm-in");
   }
 
   ~LcmTransport() override {
