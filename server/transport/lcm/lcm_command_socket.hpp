@@ -14,9 +14,11 @@
 // What it does not do: reassemble fragments, decode payloads, deduplicate or order messages by
 // their sequence number, authenticate senders (a session is only "this source address and port";
 // anything able to send to the group can claim any channel), or publish. Everything sent to the
-// group reaches this socket, rigidd's own (fragmented) states included: read it promptly and give
-// it a receive buffer (recv_buf_size) sized for that traffic, or the kernel drops commands with
-// the rest.
+// group reaches this socket, rigidd's own states included; a filter in the kernel drops every
+// fragment but a message's first before it is queued (so a large world's states neither cost this
+// socket's reader a copy nor fill its receive buffer), but the states of small worlds (one
+// datagram each) and everything else come through: read it promptly and give it a receive buffer
+// (recv_buf_size) sized for that traffic, or the kernel drops commands with the rest.
 #pragma once
 
 #include <atomic>
@@ -82,7 +84,8 @@ struct CommandSocketCounts {
   std::uint64_t datagrams = 0;      // read from the socket, whatever they held
   std::uint64_t delivered = 0;      // short messages on an accepted channel
   std::uint64_t other_channel = 0;  // short messages on another channel (ignored silently)
-  std::uint64_t fragments = 0;      // fragments, on any channel (rigidd's own states included)
+  std::uint64_t fragments = 0;      // first fragments, on any channel (rigidd's own states
+                                    // included); the kernel drops the others unread
   std::uint64_t malformed = 0;      // too short, bad magic or bad channel
   std::uint64_t errors = 0;         // recvfrom failures other than "nothing to read"
 };
@@ -117,6 +120,9 @@ class CommandSocket {
   const UdpmEndpoint& endpoint() const { return endpoint_; }
   // SO_RCVBUF as the kernel reports it (Linux doubles the request and caps it at rmem_max).
   int receive_buffer_bytes() const;
+  // Whether the kernel took the filter that drops every fragment but the first (see the .cpp);
+  // without it those are read and counted too.
+  bool filtered() const { return filtered_; }
 
   // Reads the pending datagrams, at most kMaxDatagramsPerCall, without blocking, and returns how
   // many were read (0: none pending). For each:
@@ -125,8 +131,9 @@ class CommandSocket {
   //    socket's buffer and are valid only during the call.
   //  - a short message on another channel: nothing (counted).
   //  - a malformed datagram, or the first fragment of a message on an accepted channel (a command
-  //    too large to be one): on_rejected(const Rejected&), if given. Other fragments (rigidd's own
-  //    large states, or fragments after the first) are only counted.
+  //    too large to be one): on_rejected(const Rejected&), if given. The first fragments of other
+  //    channels' messages (rigidd's own large states) are only counted; later fragments never
+  //    reach the socket (filtered()).
   // Callbacks may throw; the datagram being handled is then consumed, the rest stay queued.
   template <class OnMessage>
   int receive(OnMessage&& on_message) {
@@ -171,6 +178,7 @@ class CommandSocket {
   std::vector<std::string> channels_;
   std::unique_ptr<std::uint8_t[]> buffer_;
   int fd_ = -1;
+  bool filtered_ = false;
 
   std::atomic<std::uint64_t> datagrams_{0};
   std::atomic<std::uint64_t> delivered_{0};
