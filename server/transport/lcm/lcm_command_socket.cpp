@@ -57,11 +57,12 @@ std::string_view channel_at(std::span<const std::uint8_t> bytes, bool& found) {
 // Documentation/networking/filter.rst; on a UDP socket offset 0 is the UDP header's first byte
 // and the length counts its 8 bytes): every fragment but a message's first is dropped there.
 // Everything sent to the group reaches this socket, rigidd's own states included: at 10^5 bodies
-// a state is 10.8 MB in 166 fragments, and the command thread read them all (7.6% of a CPU in
-// bench/loop_bench's 10^5-body run at 100 Hz) and shared the socket's receive buffer with them,
-// where a burst of states could crowd out a command. The first fragment still comes through: it
-// names the channel, and one on a command channel is reported as a command too large to be one.
-// Datagrams too short for a fragment header pass whole (read and counted as malformed).
+// a state is 10.8 MB in 166 fragments, and the command thread read them all (8.2-8.5% of a CPU
+// in bench/loop_bench's 10^5-body runs at 100 Hz; 0.8-0.9% with the filter, side by side) and
+// shared the socket's receive buffer with them, where a burst of states could crowd out a command.
+// The first fragment still comes through: it names the channel, and one on a command channel is
+// reported as a command too large to be one. Datagrams too short for a fragment header pass whole
+// (read and counted as malformed).
 constexpr std::uint32_t kUdpHeaderBytes = 8;
 constexpr std::array<sock_filter, 8> kFragmentFilter{{
     BPF_STMT(BPF_LD | BPF_W | BPF_LEN, 0),  // A = datagram length
