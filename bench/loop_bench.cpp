@@ -10,6 +10,13 @@
 //     per bus the client's wrench-to-state latency p50/p99/max: from the controller's publish call
 //     to the arrival of the first state in which the pushed body's velocity changed (so it
 //     includes the wrench's own trip to the server and the state's trip back).
+//   loop_bench echo [--bodies 1000] [--duration 60] [--at-once]
+//     the same controllers and subscribers as realtime, against a stand-in for rigidd with no
+//     physics and no hand-offs (bench/echo_server.hpp, this program run as `loop_bench
+//     echo-server`): its tick thread publishes the state itself, right after the tick in which a
+//     wrench arrived. Its wrench-to-state latency is the floor under rigidd's on this machine and
+//     bus; with --at-once the stand-in answers each wrench from the bus's receive thread as it
+//     arrives, without waiting for a tick: the two trips over the bus alone.
 //   loop_bench timer [--duration 60]
 //     the machine's own timer, without rigidd: a SCHED_FIFO thread sleeping to 1 ms deadlines,
 //     without and with a 100 us final spin (rigidd's --spin-us default); what tick lateness and
@@ -86,6 +93,7 @@
 #include <thread>
 #include <vector>
 
+#include "echo_server.hpp"
 #include "transport/dds/dds_transport.hpp"
 #include "transport/lcm/lcm_transport.hpp"
 
@@ -129,12 +137,15 @@ struct Options {
   // --security KEYSTORE (made by scripts/rigid-keys, with an identity "bench" that may push):
   // rigidd runs as KEYSTORE/identities/rigidd, the DDS probes as KEYSTORE/identities/bench.
   std::string security;
+  bool at_once = false;  // echo: answer each wrench as it arrives
+  std::string prefix;    // echo-server: the topics' prefix
 };
 
 Options parse(int argc, char** argv) {
   Options o;
   if (argc < 2) {
-    throw std::invalid_argument("usage: loop_bench realtime|fast|paced|timer|memory [options]");
+    throw std::invalid_argument(
+        "usage: loop_bench realtime|fast|paced|echo|timer|memory [options]");
   }
   o.mode = argv[1];
   if (o.mode == "--help" || o.mode == "-h") {
@@ -142,12 +153,14 @@ Options parse(int argc, char** argv) {
     return o;
   }
   if (o.mode != "realtime" && o.mode != "fast" && o.mode != "paced" && o.mode != "timer" &&
-      o.mode != "memory") {
-    throw std::invalid_argument("expected realtime, fast, paced, timer or memory, got '" + o.mode +
-                                "'");
+      o.mode != "memory" && o.mode != "echo" && o.mode != "echo-server") {
+    throw std::invalid_argument("expected realtime, fast, paced, echo, timer or memory, got '" +
+                                o.mode + "'");
   }
   o.bodies = o.mode == "fast" ? 10000 : o.mode == "memory" ? 100000 : 1000;
-  o.duration = o.mode == "realtime" ? 60 : o.mode == "paced" || o.mode == "memory" ? 10 : 20;
+  o.duration = o.mode == "realtime" || o.mode == "echo"  ? 60
+               : o.mode == "paced" || o.mode == "memory" ? 10
+                                                         : 20;
   if (o.mode == "paced") o.publish_every = 1;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -191,6 +204,10 @@ Options parse(int argc, char** argv) {
       o.rigidd_args.push_back(value());
     } else if (a == "--security") {
       o.security = value();
+    } else if (a == "--at-once") {
+      o.at_once = true;
+    } else if (a == "--prefix") {
+      o.prefix = value();
     } else {
       throw std::invalid_argument("unknown option '" + a + "'");
     }
@@ -200,6 +217,12 @@ Options parse(int argc, char** argv) {
   if (o.rate_hz < 1 || o.rate_hz > 10000) throw std::invalid_argument("--rate: 1 .. 10000 Hz");
   if (o.steps < 1) throw std::invalid_argument("bad --steps");
   if (o.loaded_every < 0) throw std::invalid_argument("bad --loaded-every");
+  if (o.mode == "echo" && !o.security.empty()) {
+    throw std::invalid_argument("--security: not with echo (the stand-in serves plain DDS)");
+  }
+  if (o.at_once && o.mode != "echo" && o.mode != "echo-server") {
+    throw std::invalid_argument("--at-once: only with echo");
+  }
   if (o.loaded_every > 0 && o.point_masses) {
     throw std::invalid_argument("--loaded-every needs the rackets, not --point-masses");
   }
@@ -681,10 +704,55 @@ int run_memory(const Options& o, const std::string& scene, const std::vector<std
   return 0;
 }
 
+// The echo stand-in's run: per bus the client's wrench-to-state latency and its two legs.
+int report_echo(const Options& o, const std::vector<std::unique_ptr<Probe>>& probes,
+                const std::vector<std::int64_t>& received, double wall, int status,
+                const std::string& log) {
+  if (status != 0) {
+    std::fprintf(stderr, "the echo server did not stop cleanly (status %d):\n%s", status,
+                 log.c_str());
+    return 1;
+  }
+  std::printf("  %s", log.c_str());
+  int measured = 0;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    Probe& p = *probes[k];
+    const std::string bus(to_string(o.buses[k]));
+    const Percentiles l = percentiles(p.latencies());
+    const Percentiles a = percentiles(p.server_legs());
+    const Percentiles b = percentiles(p.wire_legs());
+    std::printf(
+        "RESULT echo_wrench_to_state_us %s%s p50 %.1f p99 %.1f max %.1f (n %zu, unseen "
+        "%d, %.1f states/s)\n",
+        bus.c_str(), o.at_once ? " at_once" : "", l.p50, l.p99, l.max, l.n, p.lost(),
+        static_cast<double>(received[k]) / wall);
+    std::printf(
+        "  of which: wrench sent -> state published p50 %.1f p99 %.1f max %.1f; "
+        "published -> received p50 %.1f p99 %.1f max %.1f\n",
+        a.p50, a.p99, a.max, b.p50, b.p99, b.max);
+    measured += l.n > 0;
+  }
+  if (measured < static_cast<int>(probes.size())) {
+    std::fprintf(stderr, "loop_bench echo: no push came back on some bus\n");
+    return 1;
+  }
+  return 0;
+}
+
 int run(const Options& o) {
   if (o.mode == "timer") {
     run_timer(o, 0);
     return run_timer(o, 100);
+  }
+  if (o.mode == "echo-server") {
+    rigid::bench::EchoOptions e;
+    e.prefix = o.prefix;
+    e.buses = o.buses;
+    e.bodies = o.bodies;
+    e.rate_hz = o.rate_hz;
+    e.publish_every = o.publish_every;
+    e.at_once = o.at_once;
+    return rigid::bench::run_echo_server(e);
   }
   const fs::path dir = fs::temp_directory_path() / ("loop_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -714,6 +782,7 @@ int run(const Options& o) {
     probes.push_back(
         std::make_unique<Probe>(bus, prefix, bus == Bus::kDds ? 0 : 1, o.subscribers,
                                 o.security.empty() ? "" : o.security + "/identities/bench"));
+  const bool echo = o.mode == "echo";
   const std::string mode = o.mode == "paced" ? "lockstep" : o.mode;
   std::vector<std::string> args{"--scene", scene,         "--mode",    mode,       "--prefix",
                                 prefix,    "--transport", o.transport, "--verbose"};
@@ -722,7 +791,22 @@ int run(const Options& o) {
     args.push_back("--security");
     args.push_back(o.security + "/identities/rigidd");
   }
-  Daemon daemon(o.rigidd, args, dir / "rigidd.err");
+  if (echo) {
+    args = {"echo-server",
+            "--prefix",
+            prefix,
+            "--transport",
+            o.transport,
+            "--bodies",
+            std::to_string(o.bodies),
+            "--rate",
+            std::to_string(o.rate_hz),
+            "--publish-every",
+            std::to_string(o.publish_every)};
+    if (o.at_once) args.push_back("--at-once");
+  }
+  Daemon daemon(echo ? fs::read_symlink("/proc/self/exe").string() : o.rigidd, args,
+                dir / "rigidd.err");
   const auto start = std::chrono::steady_clock::now();
   if (o.subscribers) {
     const auto all_ready = [&] {
@@ -743,7 +827,7 @@ int run(const Options& o) {
   std::vector<std::int64_t> states0;
   for (auto& p : probes)
     states0.push_back(p->states());
-  if (o.mode == "realtime") {
+  if (o.mode == "realtime" || echo) {
     // One controller per bus, each pushing every push-every-ms plus a random fraction of a tick:
     // a fixed period that is a whole number of ticks would always land at the same point of
     // rigidd's tick, and measure one arrival phase instead of all of them.
@@ -786,6 +870,10 @@ int run(const Options& o) {
   std::this_thread::sleep_for(50ms);
   const int status = daemon.stop();
   const std::string log = daemon.stderr_text();
+  if (echo) {
+    fs::remove_all(dir);
+    return report_echo(o, probes, received, wall, status, log);
+  }
   const std::map<std::string, double> f = closing_figures(log);
   if (status != 0 || f.empty()) {
     std::fprintf(stderr, "rigidd did not stop cleanly (status %d):\n%s", status, log.c_str());
@@ -907,15 +995,17 @@ int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
     if (o.mode == "help") {
       std::printf(
-          "usage: loop_bench realtime|fast|paced|timer|memory [--bodies N] [--duration S] "
+          "usage: loop_bench realtime|fast|paced|echo|timer|memory [--bodies N] [--duration S] "
           "[--transport dds|lcm|dds,lcm]\n"
           "                  [--rate HZ] [--publish-every K] [--point-masses] [--loaded-every K] "
           "[--push-every-ms MS] [--no-subscribers] [--steps N]\n"
           "                  [--csv FILE] [--histogram FILE] [--rigidd PATH] [--rigidd-arg "
-          "ARG]... [--security KEYSTORE]\n"
+          "ARG]... [--security KEYSTORE] [--at-once]\n"
           "rigidd from outside: tick lateness and wrench-to-state latency (realtime), cost per "
           "body-step or states per\nsecond a bus sustains (fast), states per second a bus carries "
-          "when every one must arrive (paced),\nthe machine's timer floor (timer), rigidd's memory "
+          "when every one must arrive (paced),\nthe buses' floor under the wrench-to-state "
+          "latency, "
+          "without rigidd (echo), the machine's timer floor (timer), rigidd's memory "
           "per body (memory). See the comment "
           "at the top of bench/loop_bench.cpp.\n");
       return 0;
