@@ -44,7 +44,8 @@
 //
 // realtime, fast and paced also report the CPU each of rigidd's threads took over the run, by
 // thread name (RESULT thread_cpu_percent): the loop, its publishers and the step's workers, which
-// decide between them whether ticks are late.
+// decide between them whether ticks are late; and the major page faults each took (RESULT
+// thread_major_faults): a page read back from disk stops a thread for as long as the read takes.
 //
 // Common options: --transport dds|lcm|dds,lcm (the buses rigidd publishes on and the probes use),
 // --rate HZ (the scene's tick rate, default 1000; the timer's period in timer mode),
@@ -626,8 +627,15 @@ std::vector<std::string> rigidd_histogram(const std::string& log, const std::str
 // thread name: rigidd names its own (rigid-loop, rigid-pub-dds, rigid-step-1, ...), Cyclone DDS
 // its own (recv, tev, dq.builtins, ...). proc(5): /proc/PID/task/TID/stat, the name between the
 // first '(' and the last ')', utime and stime fields 14 and 15.
-std::map<std::string, long> thread_cpu_ticks(pid_t pid) {
-  std::map<std::string, long> ticks;
+// Per thread name (threads of one name summed): CPU time in clock ticks and major page faults
+// (a page read back from disk: a code page the kernel dropped, for instance), from
+// /proc/PID/task/*/stat.
+struct ThreadUse {
+  long ticks = 0;
+  long major_faults = 0;
+};
+std::map<std::string, ThreadUse> thread_use(pid_t pid) {
+  std::map<std::string, ThreadUse> use;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
     std::ifstream in(e.path() / "stat");
@@ -636,32 +644,37 @@ std::map<std::string, long> thread_cpu_ticks(pid_t pid) {
     if (open == std::string::npos || close == std::string::npos || close < open) continue;
     std::istringstream fields(stat.substr(close + 1));
     std::string f;
-    long utime = 0, stime = 0;
+    ThreadUse& u = use[stat.substr(open + 1, close - open - 1)];
     for (int k = 3; k <= 15 && fields >> f; ++k) {
-      if (k == 14) utime = std::atol(f.c_str());
-      if (k == 15) stime = std::atol(f.c_str());
+      if (k == 12) u.major_faults += std::atol(f.c_str());
+      if (k == 14 || k == 15) u.ticks += std::atol(f.c_str());
     }
-    ticks[stat.substr(open + 1, close - open - 1)] += utime + stime;
   }
-  return ticks;
+  return use;
 }
-
-// "RESULT thread_cpu_percent NAME P ...": each thread name's share of one CPU between two
-// readings of thread_cpu_ticks `seconds` apart, the largest first, those under 0.5% left out.
-void print_thread_cpu(const std::map<std::string, long>& before,
-                      const std::map<std::string, long>& after, double seconds) {
+void print_thread_use(const std::map<std::string, ThreadUse>& before,
+                      const std::map<std::string, ThreadUse>& after, double seconds) {
   const double per_tick = 100.0 / (static_cast<double>(::sysconf(_SC_CLK_TCK)) * seconds);
   std::vector<std::pair<double, std::string>> shares;
-  for (const auto& [name, t] : after) {
+  std::vector<std::pair<long, std::string>> faults;
+  for (const auto& [name, u] : after) {
     const auto b = before.find(name);
-    const double percent = static_cast<double>(t - (b == before.end() ? 0 : b->second)) * per_tick;
+    const ThreadUse u0 = b == before.end() ? ThreadUse{} : b->second;
+    const double percent = static_cast<double>(u.ticks - u0.ticks) * per_tick;
     if (percent >= 0.5) shares.emplace_back(percent, name);
+    if (u.major_faults > u0.major_faults)
+      faults.emplace_back(u.major_faults - u0.major_faults, name);
   }
   std::sort(shares.rbegin(), shares.rend());
+  std::sort(faults.rbegin(), faults.rend());
   std::printf("RESULT thread_cpu_percent");
   for (const auto& [percent, name] : shares)
     std::printf(" %s %.1f", name.c_str(), percent);
   std::printf(" (rigidd's threads, %% of one CPU over %.1f s)\n", seconds);
+  std::printf("RESULT thread_major_faults");
+  for (const auto& [n, name] : faults)
+    std::printf(" %s %ld", name.c_str(), n);
+  std::printf("%s (rigidd's threads, over %.1f s)\n", faults.empty() ? " none" : "", seconds);
 }
 
 // A field of /proc/PID/status in bytes ("VmRSS:   1234 kB"), or -1.
@@ -823,7 +836,7 @@ int run(const Options& o) {
   }
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + std::chrono::duration<double>(o.duration);
-  const std::map<std::string, long> cpu0 = thread_cpu_ticks(daemon.pid());
+  const std::map<std::string, ThreadUse> cpu0 = thread_use(daemon.pid());
   std::vector<std::int64_t> states0;
   for (auto& p : probes)
     states0.push_back(p->states());
@@ -863,7 +876,7 @@ int run(const Options& o) {
     std::this_thread::sleep_until(end);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::map<std::string, long> cpu1 = thread_cpu_ticks(daemon.pid());
+  const std::map<std::string, ThreadUse> cpu1 = thread_use(daemon.pid());
   std::vector<std::int64_t> received;
   for (std::size_t k = 0; k < probes.size(); ++k)
     received.push_back(probes[k]->states() - states0[k]);
@@ -887,7 +900,7 @@ int run(const Options& o) {
                 static_cast<long long>(received[k]), static_cast<double>(received[k]) / wall);
   }
   std::printf("\n");
-  print_thread_cpu(cpu0, cpu1, wall);
+  print_thread_use(cpu0, cpu1, wall);
   const double loop_wall = fig("wall_s");
   const double ns_per_body_step = loop_wall * 1e9 / (fig("ticks") * o.bodies);
   // "both" rather than "dds,lcm" in the CSV.
