@@ -18,6 +18,7 @@
 
 #include "loop/log.hpp"
 #include "loop/server.hpp"
+#include "rigidd/memory_lock.hpp"
 #include "rigidd/rigidd_options.hpp"
 #include "rigidd/systemd_notifier.hpp"
 #include "scene/scene.hpp"
@@ -144,6 +145,8 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   // scratch, the DDS SceneInfo's) goes back to the system: below the trim threshold set above,
   // glibc would keep it resident.
   malloc_trim(0);
+  // Only what a real-time loop needs; after the trim, since a locked page cannot be given back.
+  if (options.mode == rigid::Mode::kRealtime) log.line(rigidd::lock_memory());
   log.line("started: " + description + "; " + buses(options, lcm_url) +
            (options.journal.empty() ? "" : "; journal " + options.journal) +
            (options.dds ? "; " + dds_config : ""));
