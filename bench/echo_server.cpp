@@ -36,20 +36,33 @@ class Echo final : public transport::Receiver {
       frame_.orientation[4 * i] = 1.0;
       frame_.linear_velocity[3 * i] = 1e-3 + 1e-6 * static_cast<double>(i);
     }
+    std::unique_ptr<transport::Transport> t;
     if (bus == Bus::kDds) {
       transport::dds::Options d;
       d.role = transport::Role::kServer;
       d.prefix = o.prefix;
-      transport_ = transport::dds::make_transport(d, *this);
+      t = transport::dds::make_transport(d, *this);
     } else {
       transport::lcm::Options l;
       l.role = transport::Role::kServer;
       l.prefix = o.prefix;
-      transport_ = transport::lcm::make_transport(l, *this);
+      t = transport::lcm::make_transport(l, *this);
     }
+    // The transport's thread may call on_wrench before make_transport returns: until it is set
+    // here, a push only marks the state for the next tick.
+    const std::lock_guard lock(mutex_);
+    transport_ = std::move(t);
   }
-  // The transport first: its thread calls on_wrench until it is gone.
-  ~Echo() override { transport_.reset(); }
+  // The transport first: its thread calls on_wrench until it is gone (and, from the moment it is
+  // taken out here, publishes nothing more).
+  ~Echo() override {
+    std::unique_ptr<transport::Transport> t;
+    {
+      const std::lock_guard lock(mutex_);
+      t = std::move(transport_);
+    }
+    t.reset();
+  }
   Echo(const Echo&) = delete;
   Echo& operator=(const Echo&) = delete;
 
@@ -72,6 +85,7 @@ class Echo final : public transport::Receiver {
 
  private:
   void publish_locked() {
+    if (!transport_) return;
     frame_.tick = ++tick_;
     frame_.sim_time = static_cast<double>(tick_) * dt_;
     frame_.stamp_ns = clock_ns(CLOCK_REALTIME);

@@ -9,7 +9,9 @@
 //     (its closing log line), rigidd's own measure of command arrival to state sent per bus, and
 //     per bus the client's wrench-to-state latency p50/p99/max: from the controller's publish call
 //     to the arrival of the first state in which the pushed body's velocity changed (so it
-//     includes the wrench's own trip to the server and the state's trip back).
+//     includes the wrench's own trip to the server and the state's trip back). Before the
+//     measured run each controller pushes until one push comes back, so that the run measures
+//     the wrench path, not its discovery.
 //   loop_bench echo [--bodies 1000] [--duration 60] [--at-once]
 //     the same controllers and subscribers as realtime, against a stand-in for rigidd with no
 //     physics and no hand-offs (bench/echo_server.hpp, this program run as `loop_bench
@@ -444,6 +446,16 @@ class Probe final : public rigid::transport::Receiver {
     w.stamp_ns = sent_wall_ns_;
     (void)transport_->publish(w);
   }
+  Bus bus() const { return bus_; }
+  // Forgets what was measured so far (the warm-up's pushes).
+  void reset_measures() {
+    const std::lock_guard lock(mutex_);
+    latencies_us_.clear();
+    server_us_.clear();
+    wire_us_.clear();
+    lost_ = 0;
+    pending_ = false;
+  }
   std::vector<double> latencies() {
     const std::lock_guard lock(mutex_);
     return latencies_us_;
@@ -832,6 +844,23 @@ int run(const Options& o) {
         return 1;
       }
       std::this_thread::sleep_for(10ms);
+    }
+  }
+  if (o.subscribers && (o.mode == "realtime" || echo)) {
+    // A state reaching a probe says nothing of its wrenches reaching the server (on DDS their
+    // writer and the server's reader discover each other on their own): each probe pushes until
+    // one push comes back, and only then does the measured run start.
+    for (auto& p : probes) {
+      while (p->latencies().empty()) {
+        if (std::chrono::steady_clock::now() - start > 60s) {
+          std::fprintf(stderr, "no push came back on %s within 60 s:\n%s",
+                       std::string(to_string(p->bus())).c_str(), daemon.stderr_text().c_str());
+          return 1;
+        }
+        p->push();
+        std::this_thread::sleep_for(50ms);
+      }
+      p->reset_measures();
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
