@@ -81,7 +81,10 @@ class Echo final : public transport::Receiver {
     const std::lock_guard lock(mutex_);
     if (pushed_ || periodic) publish_locked();
   }
-  std::int64_t failures() const { return failures_; }
+  std::int64_t failures() {
+    const std::lock_guard lock(mutex_);
+    return failures_;
+  }
 
  private:
   void publish_locked() {
@@ -166,7 +169,7 @@ int run_echo_server(const EchoOptions& o) {
       if (now - deadline > period) deadline = now;
     }
     std::int64_t failures = 0;
-    for (const auto& e : echoes)
+    for (auto& e : echoes)
       failures += e->failures();
     std::fprintf(stderr, "echo server: stopped, %lld publish failures\n",
                  static_cast<long long>(failures));
