@@ -15,6 +15,7 @@
 #include "transport/dds/dds_transport.hpp"
 #include "transport/lcm/lcm_transport.hpp"
 #include "transport/transport.hpp"
+#include "util/cpu_affinity.hpp"
 
 namespace rigid::bench {
 namespace {
@@ -109,17 +110,8 @@ class Echo final : public transport::Receiver {
 // As rigidd's loop: pinned to the last CPU this process may use, then SCHED_FIFO 10. Whether it
 // got the priority.
 bool make_realtime() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) == 0) {
-    for (int cpu = CPU_SETSIZE - 1; cpu >= 0; --cpu) {
-      if (!CPU_ISSET(cpu, &set)) continue;
-      CPU_ZERO(&set);
-      CPU_SET(cpu, &set);
-      (void)pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-      break;
-    }
-  }
+  if (const int cpu = util::last_allowed_cpu(); cpu >= 0)
+    (void)util::pin_to_cpu(pthread_self(), cpu);
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   sched_param param{};
   param.sched_priority = 10;

@@ -11,6 +11,7 @@
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
 #include "records/log_records.hpp"
+#include "util/cpu_affinity.hpp"
 #include "util/thread_name.hpp"
 
 namespace rigid::loop {
@@ -75,24 +76,6 @@ IntakePolicy intake_policy(const scene::Scene& scene, const ServerOptions& optio
   p.secure = options.secure;
   p.commands_per_second = scene.limits.max_commands_per_second;
   return p;
-}
-
-// The CPU the real-time threads go to: the last one this process may run on (the first is where
-// interrupts and most other work land by default).
-int last_allowed_cpu() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return -1;
-  for (int cpu = CPU_SETSIZE - 1; cpu >= 0; --cpu)
-    if (CPU_ISSET(cpu, &set)) return cpu;
-  return -1;
-}
-
-bool pin(std::thread::native_handle_type thread, int cpu) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  return pthread_setaffinity_np(thread, sizeof set, &set) == 0;
 }
 
 // Every CPU this process may use but `cpu`, for the physics pool's workers (World::set_threads).
@@ -194,8 +177,8 @@ void Server::start() {
 
 void Server::set_priorities() {
   // First the CPU, then the priority: a real-time thread never runs unpinned.
-  loop_cpu_ = last_allowed_cpu();
-  if (loop_cpu_ >= 0 && !pin(loop_thread_.native_handle(), loop_cpu_)) loop_cpu_ = -1;
+  loop_cpu_ = util::last_allowed_cpu();
+  if (loop_cpu_ >= 0 && !util::pin_to_cpu(loop_thread_.native_handle(), loop_cpu_)) loop_cpu_ = -1;
   if (loop_cpu_ < 0) {
     log_.line(
         "loop thread: cannot pin it to one CPU: running at normal priority so that it can "
@@ -203,7 +186,7 @@ void Server::set_priorities() {
     return;
   }
   for (auto& p : publishers_)
-    (void)pin(p->native_handle(), loop_cpu_);
+    (void)util::pin_to_cpu(p->native_handle(), loop_cpu_);
   // The step's other threads run at normal priority on the other CPUs: between steps they sleep
   // on the pool's barrier, and the loop's CPU keeps no more than the loop and its publishers.
   const auto workers = loop_.world().worker_threads();
