@@ -1,5 +1,6 @@
 // What one AES-256-GCM message costs after the CPU did something else for a while: the floor under
-// DDS Security's latency for sporadic messages (issue 10, README "Security").
+// DDS Security's latency for sporadic messages (issue 10; docs/security.md,
+// figures in bench/notes/security.md).
 //
 // Cyclone DDS 0.10's cryptography plugin (Debian's libddsc0debian) encrypts and decrypts each
 // payload and protected submessage with a cipher context made for that message: a new

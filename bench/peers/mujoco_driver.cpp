@@ -1,11 +1,12 @@
-// MuJoCo 2.2.2 driven on the hard cases (see README.md for what each mode does and why).
+// MuJoCo 2.2.2 driven on the hard cases (see bench/peers/README.md for what each mode does and
+// why).
 //
 // The copies are laid out the cheapest way for each mode, as a user who measured would: one model
 // of N free bodies with one mjData when MuJoCo's step is linear in N (Euler or RK4, nothing
 // written to xfrc_applied, no actuators, no force callback), else one mjData per copy of a
 // one-body model, because xfrc_applied, site actuators, applied forces and the implicit
-// integrator cost O(N^2) per step in one model (PEERS.md; at N = 32 the shared model is ~1.4x
-// cheaper than separate data under Euler and RK4, and 1.2x to 7x dearer in the other cases).
+// integrator cost O(N^2) per step in one model (bench/notes/peers.md; at N = 32 the shared model is
+// ~1.4x cheaper than separate data under Euler and RK4, and 1.2x to 7x dearer in the other cases).
 #include <mujoco/mujoco.h>
 
 #include <cmath>
@@ -26,7 +27,7 @@ static_assert(sizeof(mjtNum) == sizeof(double), "MuJoCo's mjtNum must be double"
 
 // mjtNums of mjData's stack per body: a one-body model uses ~500 at most (implicit), a 32-body
 // one ~100 per body (RK4). MuJoCo's default is ~10 MB per mjData, which slows many small models
-// 2-3x (PEERS.md).
+// 2-3x (bench/notes/peers.md).
 constexpr int kStackPerBody = 4000;
 
 enum class Integrator { kEuler, kRk4, kImplicit };

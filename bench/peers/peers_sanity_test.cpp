@@ -1,6 +1,7 @@
 // Every built peer driver against physics, before any of its numbers is trusted: a projectile, a
 // pure spin about a principal axis, the lever-arm torque of a force at a point (world and body
-// frame), linear drag; and the racket flip at 1 ms against the figures PEERS.md measured. A
+// frame), linear drag; and the racket flip at 1 ms against the peer survey's figures
+// (bench/notes/peers.md). A
 // wrong frame, sign, unit or step count in a driver fails here.
 #include <gtest/gtest.h>
 
@@ -192,7 +193,7 @@ TEST_F(PeersTest, StiffDragBlowsUpUnlessTheDampingIsImplicit) {
   }
 }
 
-// The racket flip at 1 ms, against the figures PEERS.md measured on these machines (within a
+// The racket flip at 1 ms, against the peer survey's figures (bench/notes/peers.md; within a
 // factor of 3: same method, same ballpark), and how each mode's error falls from 2 ms to 1 ms.
 TEST_F(PeersTest, RacketFlipMatchesPeersMd) {
   const std::map<std::string, double> peers_md = {{"mujoco_rk4", 7.2e-6},

@@ -23,7 +23,8 @@ std::unique_ptr<transport::Transport> connect(const BusOptions& o, transport::Ro
     transport::lcm::Options l;
     l.role = role;
     l.prefix = o.prefix;
-    // States of ~1000 bodies and more are lost without a larger receive buffer (NETWORKING.md).
+    // liblcm's default socket receive buffer silently loses messages over ~200 KB (a state of a
+    // few thousand bodies): ask for 4 MiB (the kernel caps it at net.core.rmem_max).
     l.url = o.lcm_url.empty() ? std::string(kDefaultLcmUrl) + "&recv_buf_size=4194304" : o.lcm_url;
     return transport::lcm::make_transport(l, receiver);
   } catch (const transport::TransportError& e) {

@@ -1,8 +1,9 @@
 // Each body's drift of energy and angular momentum since a reference state: what the accuracy
-// claims are about (README "Integrators"), computed by rigid-view from the exact published state
-// and sent to the page with every state frame (protocol.hpp), so that the page needs neither the
-// doubles nor the arithmetic: a large scene's frame carries its poses as float32 (what the GPU
-// draws), and 10^4 bodies' invariants were 5 ms of the page's main thread per state.
+// claims are about (docs/physics.md, "Integrators"), computed by rigid-view from the exact
+// published state and sent to the page with every state frame (protocol.hpp), so that the page
+// needs neither the doubles nor the arithmetic: a large scene's frame carries its poses as float32
+// (what the GPU draws), and a large scene's invariants would take the page's main thread
+// milliseconds per state (bench/notes/view.md).
 //
 // Frames (msgs/rigid.idl): p_WBo in W, q_WB (w, x, y, z), v_WBo in W, w_WB in W; the inertia I_B
 // (Ixx, Iyy, Izz, Ixy, Ixz, Iyz) is about the centre of mass, in B (SceneInfo). With

@@ -59,10 +59,9 @@ class ViewServer {
   // first always goes). The page acknowledges what arrived once its next frame is drawn, and that
   // frame applies only the newest (app.js), so the states in flight cost it a receipt each, not a
   // decode; what they buy is a state published just before the frame being there for it. With one
-  // in flight, the next state left rigid-view only when the page's frame was drawn, and so arrived
-  // just after the next frame had started and waited a whole frame: view_bench at 10^4 bodies,
-  // publish-to-frame p99 84-87 ms with one, 38-45 with four (bench/view/README.md). A page that
-  // stops drawing stops acknowledging: rigid-view then sends it nothing more.
+  // in flight, the next state would leave rigid-view only when the page's frame was drawn, arrive
+  // just after the next frame had started and wait a whole frame (bench/notes/view.md). A page
+  // that stops drawing stops acknowledging: rigid-view then sends it nothing more.
   static constexpr std::size_t kMaxUnackedStates = 4;
   static constexpr std::size_t kMaxUnackedBytes = std::size_t{4} << 20;
 

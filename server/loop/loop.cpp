@@ -78,8 +78,8 @@ bool Loop::wants_tick() const {
 void Loop::run() {
   // Timer slack (50 us by default for ordinary threads) would be added to every wake-up.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  // The first tick would otherwise make every quiet body's rotor plan, at 7 times a tick's cost
-  // (10^4 general bodies): a late first tick, skipped ticks, in every run.
+  // The first tick would otherwise make every quiet body's rotor plan, at several times a tick's
+  // cost: a late first tick, skipped ticks, in every run (bench/notes/loop-latency.md).
   driven_.prepare_tick();
   const std::int64_t start = monotonic_ns();
   stats_ = TickStats(config_.tick_dt, start);

@@ -57,11 +57,11 @@ struct LoopConfig {
   std::size_t source_capacity = 1024;  // sources whose sequence numbers are remembered
   std::size_t wrench_share = 64;       // live wrenches one sender may hold (limits)
   // Realtime: sleep to this long before each deadline, then busy-wait to it. A sleeping thread
-  // wakes tens of microseconds late on these machines (timer and scheduler latency in a VM); the
+  // can wake tens of microseconds late (timer and scheduler latency, the more so in a VM); the
   // spin takes that out of tick lateness for spin_ns / period of one core. 0: sleep only.
   std::int64_t spin_ns = 100'000;
   // Journal a hash of every state published (rigidd --journal): one pass over the state per
-  // publish (state_hash.hpp: 18 us for 1000 bodies).
+  // publish (state_hash.hpp says what it costs).
   bool hash_states = false;
   // The output lends the frame each state is written into (LoopOutput::lend_frame): the loop then
   // keeps no state frame of its own (a state is ~108 B a body).

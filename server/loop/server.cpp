@@ -201,9 +201,9 @@ void Server::set_priorities() {
   }
   // The publishers just below the loop: a state (or a command's effect) then leaves within
   // ~100 us of its tick even when other processes keep the CPUs busy, instead of waiting for
-  // the scheduler's next slice. They sleep between states and use ~1-2% of a core each in a small
-  // world; one that takes more than a quarter of the CPU (a large world's states) steps down to
-  // normal priority while it does (Publisher::watch_realtime_share).
+  // the scheduler's next slice. They sleep between states and use a few percent of a core each in a
+  // small world; one that takes more than a quarter of the CPU (a large world's states) steps down
+  // to normal priority while it does (Publisher::watch_realtime_share).
   param.sched_priority = options_.fifo_priority - 1;
   bool publishers = true;
   for (auto& p : publishers_) {

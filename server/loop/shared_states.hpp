@@ -1,15 +1,15 @@
 // The states the loop hands to its publishers, shared by all of them instead of copied to each.
-// A state of 10^4 bodies is 1 MB and of 10^5 bodies 10 MB; with a triple buffer per bus the loop
-// copied each state into every bus's buffer but the last, ~1.5 ms a state at 10^5 bodies on the
-// loop's thread. Here the loop puts a state into a free slot once (by swapping its frame in) and
-// every publisher reads that slot; the last one to let go frees it.
+// A state of 10^4 bodies is 1 MB and of 10^5 bodies 10 MB: a copy per bus would cost the loop's
+// thread milliseconds a state (bench/notes/loop-latency.md, "Handing a state to the buses"). Here
+// the loop puts a state into a free slot once (by swapping its frame in) and every publisher
+// reads that slot; the last one to let go frees it.
 //
 // Why 2 R + 1 slots for R readers: a reader holds at most two slots at a time, the one offered and
 // not yet taken (its mailbox, Publisher) and the one it is sending; the writer drops the reference
 // of an offered slot that a newer one replaces before it was taken. So at most 2 R slots are held
 // and the writer always finds a free one, without waiting and without allocating. With the two
 // buses that is 5 frames, all there is: the loop writes each state straight into a free slot
-// (lend, put_lent). The triple buffers kept 6 and the loop one more.
+// (lend, put_lent), and keeps no frame of its own.
 //
 // Threads: one writer (the loop) takes free slots, fills them (in place: lend, put_lent) and sets
 // how many readers hold them; readers only release. Slots and readers are added before any reader's

@@ -5,8 +5,8 @@
 //
 // Not cryptographic, but every step is a bijection of the running value: two states that differ in
 // a single value always hash differently, and states that differ in several collide with
-// probability ~2^-64. About 1.4 ns per value, 13 per body (18 us for 1000 bodies on these
-// machines): computed on the loop thread, only when a journal is written.
+// probability ~2^-64. About a nanosecond per value, 13 values per body (bench/notes/
+// loop-latency.md): computed on the loop thread, only when a journal is written.
 #pragma once
 
 #include <cstdint>

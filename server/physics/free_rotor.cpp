@@ -220,10 +220,10 @@ inline void case_coords(const RotorPlan& p, const Vec3& mP, double& x1, double& 
 // integral Pi(-q; phi) = F + (-q / 3) sin^3 phi R_J(...) (DLMF 19.25.14). R_J's last argument
 // 1 + q sin^2 phi >= 1: no principal value. Both Theta and J grow by pi and 2 J(pi/2) per half
 // period of phi, like F by 2K: a step costs a fixed number of Carlson integrals whatever its
-// length, where the panels cost one Jacobi evaluation per 0.025 of phase (3.4 us per 1/60 s step
-// of the fast spin, 14.7 us per 0.1 s). Rounding: B's two terms cancel to O(phi) (pure spin: g = 1,
-// m = 0) or lose a factor ~sqrt q (J = F - ..., large q), so J is used for q <= kMaxClosedQ only;
-// the separatrix (m = 1, F unbounded) keeps the panels too.
+// length, where the panels cost one Jacobi evaluation per 0.025 of phase, which grows with the
+// step (bench/notes/step-kernels.md, "Long steps of a free body"). Rounding: B's two terms cancel
+// to O(phi) (pure spin: g = 1, m = 0) or lose a factor ~sqrt q (J = F - ..., large q), so J is used
+// for q <= kMaxClosedQ only; the separatrix (m = 1, F unbounded) keeps the panels too.
 constexpr double kMaxClosedQ = 64.0;
 
 void plan_closed(RotorPlan& p) {

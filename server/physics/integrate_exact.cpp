@@ -171,8 +171,8 @@ void exact_points(PointGroup& g, const Model& m, const Range (&run)[2]) {
 // Bodies with nothing turning them: one exact translation and one exact drift, the rotation plan
 // cached until something changes the momentum. Body by body: the axisymmetric and general drifts
 // are long enough to hide the translation's memory traffic behind them, and splitting them into
-// passes (translate_quiet first) measured slower at 10^6 axisymmetric bodies (median step 19-29
-// against 16-21 ns) and no faster at 10^3.
+// passes (translate_quiet first) was slower at 10^6 axisymmetric bodies and no faster at 10^3
+// (bench/notes/step-kernels.md, "Point masses and spheres").
 template <class G>
 void exact_quiet(G& g, const Model& m, Range r) {
   const double h = m.dt;

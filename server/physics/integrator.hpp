@@ -31,7 +31,7 @@ struct IntegratorInfo {
 
 // Every integrator, in the order --list-integrators prints them.
 std::span<const IntegratorInfo> all_integrators();
-// nullptr when unknown. Accepts the aliases listed in the README ("games103").
+// nullptr when unknown. Accepts the aliases listed in docs/physics.md ("games103").
 const IntegratorInfo* find_integrator(std::string_view name);
 const IntegratorInfo& default_integrator();
 

@@ -7,11 +7,10 @@
 // time): perf on step_bench's sphere case put two thirds of the quiet isotropic body's step there.
 // The kernel loads four bodies' quaternions where they are stored (Motion, structure of arrays
 // would need every integrator changed), transposes them into four lanes of w, x, y, z, does the
-// four products side by side and transposes back: measured standalone on this machine, 5.1-6.0 ns
-// a body scalar against 2.1-2.6 ns so. The increments, which only this step reads, are stored
-// component by component already (IncrementBlock). (Gathering them with AVX-512's gather and
-// scatter instead was no faster than the scalar code on this AMD EPYC: 4.8-5.8 ns; the same product
-// on quaternions already stored as structure of arrays, 0.9-1.1 ns.)
+// four products side by side and transposes back, about twice as fast as the scalar code. The
+// increments, which only this step reads, are stored component by component already
+// (IncrementBlock). AVX-512's gather and scatter were no faster than the scalar code; quaternions
+// stored as structure of arrays would be faster still (bench/notes/step-kernels.md).
 //
 // The kernel restates the scalar arithmetic operation for operation (Eigen's SSE2 quaternion
 // product and sum of squares, as rotor_lanes_kernel.cpp does; math.hpp's renormalize), so every

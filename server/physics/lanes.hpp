@@ -38,8 +38,8 @@ inline V select(Mask m, V a, V b) {
 }
 // Whether some lane / every lane of a mask is set. The branches they choose skip work whose
 // lanes select() would discard, so only speed depends on them. One test instruction for the
-// lanes of each instruction set: g++ made of a plain reduction loop a move of every lane to a
-// general register (a fifth of the loaded bodies' kernel's samples in perf; 1-3% of its time).
+// lanes of each instruction set: g++ makes of a plain reduction loop a move of every lane to a
+// general register (bench/notes/step-kernels.md, "SIMD lanes").
 inline bool any(Mask m) {
 #if RIGID_LANE_WIDTH == 8 && defined(__AVX512F__)
   const __m512i v = reinterpret_cast<__m512i>(m);

@@ -6,11 +6,11 @@
 // changes nothing.
 //
 // Why chunks are claimed rather than handed out one share per thread: a worker that sleeps
-// between two rigidd ticks is woken late (tens to hundreds of microseconds on a busy 2-core VM)
-// and may be preempted by the publishers on its CPU. With a fixed share per thread the tick waited
+// between two rigidd ticks can be woken late (tens to hundreds of microseconds on a busy host)
+// and may be preempted by the publishers on its CPU. With a fixed share per thread the tick waits
 // for the latest thread's whole share; with claimed chunks the caller starts at once, takes
 // whatever the workers have not, and waits only for the chunks already begun. A run is never
-// slower than the caller alone by more than one chunk.
+// slower than the caller alone by more than one chunk (bench/notes/step-threads.md).
 //
 // Hand-over: a run publishes one word (its number, the next chunk, the chunk count), which the
 // threads advance by compare-and-swap, and a new generation, which the workers wait for; the
@@ -18,17 +18,15 @@
 // sleeps (std::atomic::wait: a futex). When the caller says that another run follows at once
 // (World::step(n)), the workers poll for it instead of sleeping: a thread that sleeps between two
 // steps run back to back is woken late and runs its share slower for a while after (its idle CPU
-// was given up): on this project's 2-core VM, 10^4 and 10^5 thrusters stepped 1.71-1.79x faster
-// on two threads than on one with sleeping workers, 1.93-1.97x with polling ones (forced_bench
-// --scaling, side by side). A single step (one rigidd tick) lets them sleep after a moment, so an
-// idle pool takes no CPU from anything else.
+// was given up), which costs a good part of the second thread's gain (bench/notes/
+// step-threads.md). A single step (one rigidd tick) lets them sleep after a moment, so an idle
+// pool takes no CPU from anything else.
 //
 // A caller that knows when its next run comes (rigidd's loop, which wakes spin_ns before each
 // tick's deadline and spins to it) says so with expect_run: the workers wake now and poll for
 // that run, so that they are running when it is published instead of being woken by it; a worker
-// woken by the run itself starts tens to hundreds of microseconds late on a busy VM, and the caller
-// then steps most of the world alone (rigidd's step cost p99 at 10^4 bodies on two threads was
-// close to its cost on one).
+// woken by the run itself can start tens to hundreds of microseconds late on a busy host, and the
+// caller then steps most of the world alone (bench/notes/step-threads.md).
 #pragma once
 
 #include <atomic>

@@ -1,9 +1,9 @@
 // The cached free-rotor plans of the general bodies (RotorPlan, free_rotor.hpp), stored the way
 // the lanes kernel reads them: eight entries to a block, each field of the eight side by side
 // (structure of arrays). A block of eight quiet bodies whose plans are ready is stepped straight
-// from its block (rotor_lanes.hpp); before, every step copied ~45 fields of each body's plan
-// into a batch one lane at a time, which cost the quiet general body about a quarter of its step
-// (perf record on step_bench's racket case: the copy 23%, the kernel 42%).
+// from its block (rotor_lanes.hpp), instead of copying ~45 fields of each body's plan into a batch
+// one lane at a time every step, which would cost the quiet general body more than the kernel's
+// arithmetic (bench/notes/step-kernels.md, "Rotor plans stored eight to a block").
 //
 // A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
 // drift_cached, and the kernel), so the store keeps what that reads and nothing else: 208 B an

@@ -7,7 +7,7 @@
 // Why: Eigen keeps a Vec3 in scalars and pairs, so the scalar code spends about as long moving
 // x, v and f_W between registers as computing; here x (with v's first component) and v (with the
 // spin's first) each load as one vector and store as one, the lane beyond the three kept as it
-// was. Measured standalone on this machine: 4.0-4.3 ns a body scalar against 2.1-2.5 ns so.
+// was: about twice as fast as the scalar code (bench/notes/step-kernels.md).
 //
 // The arithmetic is the scalar code's per component, in its order (a_c = g_c + (1/m)_c f_c;
 // x_c += p1 v_c + q2 a_c; v_c = E v_c + p1 a_c), so a body steps to the same bits by either path

@@ -796,9 +796,8 @@ bool sane(const Motion& m) {
 
 // One slice of the bodies a step, in turn, rather than all of them every kGuardEvery steps: the
 // check reads every body and writes 56 B for each to memory nothing else touches, and done for
-// all at once on the calling thread it made every 64th step the slowest by far (bench/
-// step_percentiles, 10^4 general bodies, a third of them forced: that step's median 1.9-2.4 times
-// the others' on two threads, 1.25-1.33 on one), and 1 step in 64 is what a p99 sees.
+// all at once on the calling thread it made every 64th step the slowest by far, and 1 step in 64
+// is what a p99 sees (bench/notes/step-kernels.md, "The guard, a slice a step").
 void World::Impl::guard() {
   const auto [begin, end] = guard_slice(static_cast<int>(steps % kGuardEvery));
   for (int id = begin; id < end; ++id) {
@@ -1214,7 +1213,8 @@ void World::write_states(const StateRows& rows) const {
   const int bodies = static_cast<int>(w.slot.size());
   // A large world's states are written on the step's threads too, in chunks they claim: what
   // each body's rows hold does not depend on which thread wrote them. (rigidd writes every state
-  // it publishes on its loop thread: at 10^5 general bodies ~1 ms alone.)
+  // it publishes on its loop thread: what that costs at 10^5 bodies is in bench/notes/
+  // loop-latency.md, "Writing the state".)
   const int chunks = std::min(bodies / kBodiesPerWriteChunk, detail::Pool::kMaxChunks);
   if (!w.pool.pool || w.threads < 2 || chunks < 2) {
     writer.write(0, bodies);

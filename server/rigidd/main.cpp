@@ -85,7 +85,7 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   // the signalfd sees them.
   util::SignalWatcher signals({SIGTERM, SIGINT});
   // A 1000-body state is ~110 KB: above glibc's default mmap threshold every serialization buffer
-  // would be mapped and unmapped, page-faulting on each publish (shared/NETWORKING.md).
+  // would be mapped and unmapped, page-faulting on each publish.
   mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
   mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
 

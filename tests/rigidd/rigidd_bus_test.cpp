@@ -320,7 +320,7 @@ void expect_every_state(const std::vector<TimedState>& states, std::int64_t afte
 // client's state reader keeps every state of the step, so a client thread that a loaded suite
 // stalls for a moment loses none. With rigid's default of 256, 5 of 210 runs (six copies at once
 // and a CPU hog) lost 6 to 122 states: reader history overflow (the kernel counted no UDP drops);
-// a client more than 256 states behind loses some, as the README says. With 1024: 0 of 120.
+// a client more than 256 states behind loses some, as docs/rigidd.md says. With 1024: 0 of 120.
 constexpr int kWholeStep = 1024;
 
 // Lockstep: publishing paces the steps, so a step request of 500 ticks with publish_every 1

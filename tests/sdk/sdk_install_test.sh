@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The SDK as a user gets it: `cmake --install` of this build into a temporary prefix, then the
-# README's minimal client built out of tree against it, once with CMake (find_package(rigid),
+# minimal client of docs/sdk.md built out of tree against it, once with CMake (find_package(rigid),
 # rigid::client) and once with `pkg-config --cflags --libs rigid`; both binaries must start
 # (--help). Also checks that the install holds every program, scene and the DDS config, and that
 # the systemd unit names the prefix installed to.

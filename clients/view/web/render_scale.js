@@ -3,9 +3,8 @@
 //
 // Why: where WebGL runs on the CPU (SwiftShader: headless Chromium, machines without a GPU) a
 // frame's cost is mostly per pixel, and a page that misses refreshes moves in visible jerks,
-// which matter more in a view of motion than its sharpness. Measured in headless Chromium on a
-// 2-core machine (bench/view/README.md), 10^3 bodies: 47-52 frames/s at full resolution, 58-59
-// at 0.75, 59.4-59.8 at 0.63, 59.8-60.0 at 0.5. With a GPU the page stays at 1.
+// which matter more in a view of motion than its sharpness: a slightly lower scale gives back every
+// refresh (bench/notes/view.md, bench/view/README.md). With a GPU the page stays at 1.
 //
 // How, one decision per second of frames:
 // - `lowerAfter` seconds in a row with fewer than `slowFps` frames each (more than two refreshes

@@ -8,7 +8,7 @@
 // Date.now(), to compare with rigidd's stamp (this host's CLOCK_REALTIME, read when it happens), and
 // event.receivedAt, performance.timeOrigin + performance.now(), to compare with the page's own
 // performance clock. (timeOrigin is the wall clock once, when the context starts: where the wall
-// clock is being slewed, as on this VM at times by 5 ms a second, the two drift apart.)
+// clock is being slewed, as a VM's can be by milliseconds a second, the two drift apart.)
 
 // The worker: one WebSocket; text frames and binary frames (transferred) to the page, the page's
 // texts to rigid-view. Each binary frame carries the clocks of its receipt (above).

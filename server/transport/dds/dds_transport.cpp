@@ -115,7 +115,8 @@ class Inbox {
   virtual void drain(Receiver& receiver, TrafficCounter& counter, bool secure) = 0;
   // A reader still holding samples triggers the waitset again at once, and the readers take turns:
   // a reader flooded about as fast as it is drained (10^5 wrenches a second) cannot starve the
-  // others (bench/flood measured a control request waiting 200 ms behind such a flood). At most
+  // others (a control request could wait hundreds of milliseconds behind such a flood:
+  // bench/notes/flood.md). At most
   // the commands' history depth per turn.
   static constexpr int kMaxPerDrain = 256;
   dds_entity_t condition() const { return condition_.get(); }

@@ -57,9 +57,9 @@ std::string_view channel_at(std::span<const std::uint8_t> bytes, bool& found) {
 // Documentation/networking/filter.rst; on a UDP socket offset 0 is the UDP header's first byte
 // and the length counts its 8 bytes): every fragment but a message's first is dropped there.
 // Everything sent to the group reaches this socket, rigidd's own states included: at 10^5 bodies
-// a state is 10.8 MB in 166 fragments, and the command thread read them all (8.2-8.5% of a CPU
-// in bench/loop_bench's 10^5-body runs at 100 Hz; 0.8-0.9% with the filter, side by side) and
-// shared the socket's receive buffer with them, where a burst of states could crowd out a command.
+// a state is 10.8 MB in 166 fragments, which the command thread would read all of (a CPU share
+// worth filtering out: bench/notes/transport.md) and whose burst would share the socket's receive
+// buffer with commands, where it could crowd one out.
 // The first fragment still comes through: it names the channel, and one on a command channel is
 // reported as a command too large to be one. Datagrams too short for a fragment header pass whole
 // (read and counted as malformed).

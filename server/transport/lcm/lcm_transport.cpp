@@ -76,7 +76,7 @@ class Inbox {
 // liblcm's receive thread queues at most 30 messages per subscription for lcm_handle (the default
 // of lcm_subscription_set_queue_capacity) and drops the rest. That is 30 ms of states at 1 kHz, and
 // a lockstep step request sends its states as fast as the bus takes them: a subscriber whose
-// handler thread loses the CPU for a moment lost states (19 of 500 in CI under ASan). A client's
+// handler thread loses the CPU for a moment loses states (bench/notes/transport.md). A client's
 // state subscription holds up to kStateQueueBytes of states instead, at most kStateQueueMessages of
 // them: sized to the states that arrive, so a large scene's queue is no larger in bytes.
 inline constexpr std::size_t kStateQueueBytes = std::size_t{64} << 20;
