@@ -4,7 +4,7 @@
 // enables the Network domain on every page and worker, so each WebSocket frame the page's worker
 // receives is sent to the driver as an event (binary payloads in base64): at 10^4 bodies, 20
 // frames of 320 KB a second, that cost the driver ~15% and the browser process ~7% of this
-// 2-core host, taken from the page being measured (bench/view/README.md). A page a person opens
+// 2-core host, taken from the page being measured (bench/notes/view-bench.md). A page a person opens
 // has no driver.
 //
 // launchCdp(executable, args) -> { newPage({ width, height }), close() }; a page has goto(url),

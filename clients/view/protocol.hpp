@@ -11,11 +11,11 @@
 //   i32 id[n]. real is f64, the published doubles, for scenes of up to kExactStateMaxBodies
 //   bodies, and f32 (flag kStateFloat32) for larger recordings (rigid-view FILE, whose frames
 //   are made once at load for every page): what the page's GPU draws anyway, and the bytes are
-//   what a large scene's state costs on the way (bench/view/README.md). Total
+//   what a large scene's state costs on the way (bench/notes/view-bench.md). Total
 //   kStateHeaderBytes + state_bytes_per_body(n) n.
 // Pose frame (live scenes of more than kExactStateMaxBodies bodies: flag kStatePoses): the same
 //   header, then f32 position[3n], f32 orientation[4n], i32 id[n] (32 B a body, half the state
-//   frame's: a 10^4-body page draws what it receives, bench/view/README.md), the worst drifts
+//   frame's: a 10^4-body page draws what it receives, bench/notes/view-bench.md), the worst drifts
 //   (f32 energy, i32 its slot, f32 momentum, i32 its slot; slot -1 when every drift is 0), u32 k,
 //   u32 0, and k watched bodies' records of kWatchedRecordBytes: i32 slot, f32 energy drift, f32
 //   momentum drift, u32 0, f64 position[3], orientation[4], linear_velocity[3],

@@ -91,7 +91,7 @@ class Page : public std::enable_shared_from_this<Page> {
     // One WebSocket frame per message, written at once: Beast's default splits a message into
     // frames of its 4 KB write buffer, each its own write (and TCP segment, with TCP_NODELAY) and
     // each a separate chunk for the browser to forward to the page: 80 of them for a 10^4-body
-    // pose frame (bench/view/README.md).
+    // pose frame (bench/notes/view-bench.md).
     ws_.auto_fragment(false);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return self->fail();

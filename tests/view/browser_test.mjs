@@ -276,7 +276,7 @@ try {
   const inst = await rv('window.rigidView.instances()');
   if (inst.count !== 6 || inst.meshes !== 5) throw new Error(`instances: ${JSON.stringify(inst)}`);
   // WebGL on the CPU here (SwiftShader): the page knows it and draws even a small scene without
-  // multisampling, which a software renderer pays per pixel (bench/view/README.md).
+  // multisampling, which a software renderer pays per pixel (bench/notes/view-bench.md).
   const gl = await rv('({ software: window.rigidView.softwareGL, antialias: window.rigidView.antialias() })');
   if (gl.software !== true || gl.antialias !== false) throw new Error(`in SwiftShader the page has ${JSON.stringify(gl)} (expected software and no multisampling)`);
   // The frame rate is bounded (at most 60 Hz) although rigidd publishes at 200 Hz. (Only states

@@ -4,7 +4,7 @@
 // Why: where WebGL runs on the CPU (SwiftShader: headless Chromium, machines without a GPU) every
 // frame costs its pixels, whether anything moved or not: a page left open on a paused scene drew
 // 60 identical frames a second, a core's worth of CPU on the machine rigidd runs on
-// (bench/view/README.md, "Idle pages"). A renderer that draws only on change is what desktop
+// (bench/notes/view-bench.md, "Draw on change"). A renderer that draws only on change is what desktop
 // tools do (an editor's viewport, Foxglove's panels); a view of a running simulation changes
 // every state, so while the scene moves nothing is skipped.
 //

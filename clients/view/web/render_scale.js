@@ -4,7 +4,7 @@
 // Why: where WebGL runs on the CPU (SwiftShader: headless Chromium, machines without a GPU) a
 // frame's cost is mostly per pixel, and a page that misses refreshes moves in visible jerks,
 // which matter more in a view of motion than its sharpness: a slightly lower scale gives back every
-// refresh (bench/notes/view.md, bench/view/README.md). With a GPU the page stays at 1.
+// refresh (bench/notes/view.md, view-bench.md). With a GPU the page stays at 1.
 //
 // How, one decision per second of frames:
 // - `lowerAfter` seconds in a row with fewer than `slowFps` frames each (more than two refreshes

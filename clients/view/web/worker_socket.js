@@ -1,6 +1,6 @@
 // The page's WebSocket, received on a Worker's thread. A state frame of 10^4 bodies is 1 MB, and a
 // WebSocket on the page's main thread takes it in chunks between rendered frames: with software
-// rendering at a few frames a second that took seconds per state (bench/view/README.md). The
+// rendering at a few frames a second that took seconds per state (bench/notes/view-bench.md). The
 // Worker receives whole messages on its own thread and hands each ArrayBuffer over without a copy.
 // WorkerSocket has the part of WebSocket's interface app.js uses (readyState, send, close,
 // onopen, onclose, onmessage with event.data), and for a binary frame the worker's receipt by two
