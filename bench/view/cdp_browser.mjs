@@ -3,9 +3,8 @@
 // expressions, see its uncaught errors) and nothing more. Why not playwright here: playwright
 // enables the Network domain on every page and worker, so each WebSocket frame the page's worker
 // receives is sent to the driver as an event (binary payloads in base64): at 10^4 bodies, 20
-// frames of 320 KB a second, that cost the driver ~15% and the browser process ~7% of this
-// 2-core host, taken from the page being measured (bench/notes/view-bench.md). A page a person opens
-// has no driver.
+// frames of 320 KB a second, CPU taken from the page being measured (how much:
+// bench/notes/view-bench.md). A page a person opens has no driver.
 //
 // launchCdp(executable, args) -> { newPage({ width, height }), close() }; a page has goto(url),
 // evaluate(expression) (awaits promises, returns the value), on('pageerror', fn), close().

@@ -10,8 +10,8 @@
 // --web-dirs A,B serves each size with each page in turn (rigid-view --web-dir: an old page against
 // a new one, side by side), --repeat N runs every pair N times and prints the medians.
 // --driver cdp (the default) drives Chromium over its DevTools pipe with no Network domain
-// (cdp_browser.mjs says why); --driver playwright as the browser test does (the figures before
-// 2026-12-04 07:00 UTC were taken so).
+// (cdp_browser.mjs says why); --driver playwright as the browser test does (older figures in
+// bench/notes/view-bench.md were taken so).
 //
 // --rigidd-cost: what rigid-view costs rigidd instead (issue 11: "no cost to rigidd"). One rigidd,
 // realtime, --rate (default 1000) Hz on a scene of --bodies (default 1000) bodies publishing every
@@ -212,8 +212,8 @@ async function run(n, webDir) {
   const cpu1 = treeCpuSeconds(browser.pid);
   const latencies = (await rv('window.rigidView.latencies()')).sort((a, b) => a - b);
   // Refreshes of the 60 Hz frame clock (headless Chromium's) the page missed in the window: an
-  // interval between animation frames of k refreshes missed k - 1 (pages since 2026-12-04 12:00
-  // UTC keep their frames' timestamps; NaN before).
+  // interval between animation frames of k refreshes missed k - 1 (NaN for an older page that
+  // keeps no frame timestamps).
   const times = await rv('window.rigidView.frameTimes ? window.rigidView.frameTimes() : null');
   // (NaN too when the page's last 4096 frames do not reach back to the window's start.)
   // (NaN when paused: the page then draws only on change, redraw.js, and skips the rest.)
@@ -245,7 +245,7 @@ async function run(n, webDir) {
            to_main_p50_ms: parts ? median(parts.toMain) : NaN,
            to_frame_p50_ms: parts ? median(parts.toFrame) : NaN,
            // States the page received, and those a newer one replaced before a frame applied them
-           // (pages since 2026-12-04 09:30 UTC; NaN before, whose counters come back as null).
+           // (NaN for an older page without these counters: they come back as null).
            received_per_s: r1[5] === null ? NaN : (r1[5] - r0[5]) / seconds,
            skipped_per_s: r1[6] === null ? NaN : (r1[6] - r0[6]) / seconds };
 }
