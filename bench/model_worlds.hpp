@@ -11,9 +11,10 @@
 
 namespace rigid::bench {
 
-// The four models a World compiles bodies into (world.hpp's BodyModel), torque-free but for the
-// point mass, which falls under gravity; and the general body again under an off-centre
-// body-fixed force, where every integrator must evaluate the load at each of its stages.
+// One body of each of the four motion groups a World compiles bodies into (body_motion.hpp's
+// BodyMotion: point mass, sphere, axisymmetric and general body), torque-free but for the point
+// mass, which falls under gravity; and the general body again under an off-centre body-fixed
+// force, where every integrator must evaluate the load at each of its stages.
 enum class Model { kPoint, kIsotropic, kAxisymmetric, kGeneral, kGeneralForced };
 
 struct ModelInfo {

@@ -5,10 +5,11 @@
 //   build/bench/throughput [--quick] [--out bench/results/throughput.csv] [--max-bodies N]
 //                          [--integrators a,b,...]
 //
-// The models are the four a World compiles bodies into (world.hpp's BodyModel), torque-free but
-// for the point mass, which falls under gravity; and the general body again under an off-centre
-// body-fixed force, where every integrator must evaluate the load at each of its stages. Bodies
-// differ a little in their initial angular velocity so that no two are the same.
+// The models are one body of each of the four motion groups a World compiles bodies into
+// (body_motion.hpp's BodyMotion), torque-free but for the point mass, which falls under gravity;
+// and the general body again under an off-centre body-fixed force, where every integrator must
+// evaluate the load at each of its stages. Bodies differ a little in their initial angular
+// velocity so that no two are the same.
 //
 // Timing: thread CPU time of batches of steps, each batch at least 20 ms (quick: 5 ms), after one
 // warm-up batch; the median over 5 batches (quick: 3), with the fastest and slowest beside it. CPU

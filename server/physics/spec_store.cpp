@@ -29,11 +29,8 @@ ParamsKey key_of(const SpecStore::Params& p) {
     k.bits[1 + i] = std::bit_cast<std::uint64_t>(p.I_B.data()[i]);
   k.bits[10] = std::bit_cast<std::uint64_t>(p.linear_drag);
   k.bits[11] = std::bit_cast<std::uint64_t>(p.angular_drag);
-  const bool flags[] = {p.has_inertia,           p.use_gravity,           p.kinematic,
-                        p.freeze_translation[0], p.freeze_translation[1], p.freeze_translation[2],
-                        p.freeze_rotation[0],    p.freeze_rotation[1],    p.freeze_rotation[2]};
-  for (unsigned i = 0; i < std::size(flags); ++i)
-    k.flags |= static_cast<unsigned>(flags[i]) << i;
+  k.flags = static_cast<unsigned>(p.has_inertia) | static_cast<unsigned>(p.use_gravity) << 1 |
+            static_cast<unsigned>(p.motion_type) << 2 | static_cast<unsigned>(p.allowed_dofs) << 3;
   return k;
 }
 
@@ -82,8 +79,19 @@ SpecStore::SpecStore(const std::vector<BodySpec>& bodies) {
       starts_.push_back(start_of(bodies[f]));
   }
   const auto params_of = [](const BodySpec& b) {
-    return Params{b.mass,        b.I_B,       b.linear_drag,        b.angular_drag,   b.has_inertia,
-                  b.use_gravity, b.kinematic, b.freeze_translation, b.freeze_rotation};
+    AllowedDofs dofs = AllowedDofs::kNone;
+    for (int a = 0; a < 3; ++a) {
+      if (!b.freeze_translation[a]) dofs = dofs | translation_dof(a);
+      if (!b.freeze_rotation[a]) dofs = dofs | rotation_dof(a);
+    }
+    return Params{b.mass,
+                  b.I_B,
+                  b.linear_drag,
+                  b.angular_drag,
+                  b.has_inertia,
+                  b.use_gravity,
+                  b.kinematic ? MotionType::kKinematic : MotionType::kDynamic,
+                  dofs};
   };
   std::vector<ParamsKey> keys;
   keys.reserve(n);
@@ -110,9 +118,11 @@ BodySpec SpecStore::get(int id) const {
   b.linear_drag = p.linear_drag;
   b.angular_drag = p.angular_drag;
   b.use_gravity = p.use_gravity;
-  b.kinematic = p.kinematic;
-  b.freeze_translation = p.freeze_translation;
-  b.freeze_rotation = p.freeze_rotation;
+  b.kinematic = p.kinematic();
+  for (int a = 0; a < 3; ++a) {
+    b.freeze_translation[a] = !allows(p.allowed_dofs, translation_dof(a));
+    b.freeze_rotation[a] = !allows(p.allowed_dofs, rotation_dof(a));
+  }
   return b;
 }
 

@@ -17,13 +17,15 @@
 #include <string_view>
 #include <vector>
 
+#include "physics/body_motion.hpp"
 #include "physics/spec.hpp"
 
 namespace rigid::physics::detail {
 
 class SpecStore {
  public:
-  // Everything of a BodySpec but its name and its initial state.
+  // Everything of a BodySpec but its name and its initial state; its kinematic flag and frozen
+  // axes as the body's motion type and allowed degrees of freedom (body_motion.hpp).
   struct Params {
     double mass = 1.0;
     Mat3 I_B = Mat3::Identity();
@@ -31,9 +33,9 @@ class SpecStore {
     double angular_drag = 0.0;
     bool has_inertia = true;
     bool use_gravity = true;
-    bool kinematic = false;
-    std::array<bool, 3> freeze_translation{false, false, false};
-    std::array<bool, 3> freeze_rotation{false, false, false};
+    MotionType motion_type = MotionType::kDynamic;
+    AllowedDofs allowed_dofs = AllowedDofs::kAll;
+    bool kinematic() const { return motion_type == MotionType::kKinematic; }
   };
 
   // Keeps a copy of `bodies`, orientations normalised.

@@ -33,20 +33,6 @@ using detail::Loads;
 using detail::Model;
 using detail::Motion;
 
-std::string_view to_string(BodyModel m) {
-  switch (m) {
-    case BodyModel::kPoint:
-      return "point";
-    case BodyModel::kIsotropic:
-      return "isotropic";
-    case BodyModel::kAxisymmetric:
-      return "axisymmetric";
-    case BodyModel::kGeneral:
-      return "general";
-  }
-  return "?";
-}
-
 namespace {
 
 // Principal moments closer than this (relative to the largest) are treated as equal, so that a
@@ -58,16 +44,16 @@ constexpr double kEqualMoments = 1e-12;
 class Slot {
  public:
   Slot() = default;
-  Slot(BodyModel m, int index) : bits_(static_cast<std::uint32_t>(index) << 2 | code(m)) {}
-  BodyModel model() const { return static_cast<BodyModel>(bits_ & 3u); }
+  Slot(BodyMotion m, int index) : bits_(static_cast<std::uint32_t>(index) << 2 | code(m)) {}
+  BodyMotion model() const { return static_cast<BodyMotion>(bits_ & 3u); }
   int index() const { return static_cast<int>(bits_ >> 2); }
   void set_index(int index) { bits_ = (bits_ & 3u) | static_cast<std::uint32_t>(index) << 2; }
 
  private:
-  static std::uint32_t code(BodyModel m) { return static_cast<std::uint32_t>(m); }
+  static std::uint32_t code(BodyMotion m) { return static_cast<std::uint32_t>(m); }
   std::uint32_t bits_ = 0;
 };
-static_assert(static_cast<int>(BodyModel::kGeneral) == 3, "Slot keeps a model in two bits");
+static_assert(static_cast<int>(BodyMotion::kTumbling) == 3, "Slot keeps a model in two bits");
 static_assert(World::kMaxBodies <= (1 << 30), "Slot keeps an index in 30 bits");
 
 std::string fmt(double x) {
@@ -192,8 +178,8 @@ struct World::Impl {
   // q_BP of body id: the identity for point masses and isotropic bodies (their P is B).
   Quat rot_BP(int id) const {
     const Slot& s = slot[id];
-    if (s.model() == BodyModel::kAxisymmetric) return model.axi.q_BP(s.index());
-    if (s.model() == BodyModel::kGeneral) return model.gen.q_BP(s.index());
+    if (s.model() == BodyMotion::kPrecession) return model.axi.q_BP(s.index());
+    if (s.model() == BodyMotion::kTumbling) return model.gen.q_BP(s.index());
     return Quat::Identity();
   }
   // A copied vector keeps its elements but not its capacity: what stepping relies on having
@@ -231,21 +217,21 @@ struct World::Impl {
   }
   void regroup();
   void place(int id);
-  void swap_entries(BodyModel model, int a, int b);
-  Group& group(BodyModel m) {
+  void swap_entries(BodyMotion model, int a, int b);
+  Group& group(BodyMotion m) {
     switch (m) {
-      case BodyModel::kPoint:
+      case BodyMotion::kTranslation:
         return model.point;
-      case BodyModel::kIsotropic:
+      case BodyMotion::kSteadySpin:
         return model.iso;
-      case BodyModel::kAxisymmetric:
+      case BodyMotion::kPrecession:
         return model.axi;
-      case BodyModel::kGeneral:
+      case BodyMotion::kTumbling:
         break;
     }
     return model.gen;
   }
-  const Group& group(BodyModel m) const { return const_cast<Impl*>(this)->group(m); }
+  const Group& group(BodyMotion m) const { return const_cast<Impl*>(this)->group(m); }
   Motion& motion(int id) { return group(slot[id].model()).motion[slot[id].index()]; }
   const Motion& motion(int id) const { return group(slot[id].model()).motion[slot[id].index()]; }
   detail::LoadsRef load(int id) const { return group(slot[id].model()).load(slot[id].index()); }
@@ -457,7 +443,7 @@ void World::Impl::compile(const WorldSpec& spec) {
     const BodySpec& b = spec.bodies[i];
     const Quat q_WB = specs.q_WB(i);  // normalised
     const int frozen = std::count(b.freeze_rotation.begin(), b.freeze_rotation.end(), true);
-    BodyModel kind;
+    BodyMotion kind;
     PrincipalInertia pi;
     if (b.has_inertia) pi = principal_inertia(b.I_B);
     const Vec3 I = pi.moments;
@@ -465,16 +451,16 @@ void World::Impl::compile(const WorldSpec& spec) {
     IsoRot iso;
     DiagRot diag;
     if (!b.has_inertia || frozen == 3 || (b.kinematic && b.w_WB.isZero(0))) {
-      kind = BodyModel::kPoint;
+      kind = BodyMotion::kTranslation;
       pi = PrincipalInertia{I, Quat::Identity()};
     } else if (b.kinematic) {
-      kind = BodyModel::kIsotropic;
+      kind = BodyMotion::kSteadySpin;
       pi.q_BP = Quat::Identity();
       iso.inv_I = 0.0;
     } else if (frozen == 2) {
       // A hinge about the free world axis e: I_e = e^T R_WB I_B R_WB^T e, constant because the
       // body only turns about e. P = B; the axis in P is R_WB^T e.
-      kind = BodyModel::kIsotropic;
+      kind = BodyMotion::kSteadySpin;
       const int free_axis = !b.freeze_rotation[0] ? 0 : (!b.freeze_rotation[1] ? 1 : 2);
       const Vec3 e = Vec3::Unit(free_axis);
       const Mat3 R = q_WB.toRotationMatrix();
@@ -485,12 +471,12 @@ void World::Impl::compile(const WorldSpec& spec) {
       iso.hinge = 1.0;
       iso.k = b.angular_drag;
     } else if (I.z() - I.x() <= tol) {
-      kind = BodyModel::kIsotropic;
+      kind = BodyMotion::kSteadySpin;
       pi.q_BP = Quat::Identity();  // every frame is principal
       iso.inv_I = 3.0 / I.sum();
       iso.k = b.angular_drag;
     } else if (I.y() - I.x() <= tol || I.z() - I.y() <= tol) {
-      kind = BodyModel::kAxisymmetric;
+      kind = BodyMotion::kPrecession;
       Mat3 R = pi.q_BP.toRotationMatrix();
       Vec3 J;
       if (I.y() - I.x() <= tol) {
@@ -505,7 +491,7 @@ void World::Impl::compile(const WorldSpec& spec) {
       diag.inv_I = J.cwiseInverse();
       diag.k = b.angular_drag;
     } else {
-      kind = BodyModel::kGeneral;
+      kind = BodyMotion::kTumbling;
       diag.I = I;
       diag.inv_I = I.cwiseInverse();
       diag.k = b.angular_drag;
@@ -532,20 +518,20 @@ void World::Impl::compile(const WorldSpec& spec) {
     linears[static_cast<int>(kind)].push_back(lin);
     g.loads.emplace_back();
     switch (kind) {
-      case BodyModel::kPoint:
+      case BodyMotion::kTranslation:
         break;
-      case BodyModel::kIsotropic:
+      case BodyMotion::kSteadySpin:
         iso_rots.push_back(iso);
         model.iso.dq.push_back(Quat::Identity());
         model.iso.dq_ok.push_back(0);
         break;
-      case BodyModel::kAxisymmetric:
+      case BodyMotion::kPrecession:
         diag_rots[0].push_back(diag);
         model.axi.plan.emplace_back();
         model.axi.plan_ok.push_back(0);
         rots_BP[0].push_back(q_BP);
         break;
-      case BodyModel::kGeneral:
+      case BodyMotion::kTumbling:
         diag_rots[1].push_back(diag);
         model.gen.plan.push_back();
         model.gen.plan_ok.push_back(0);
@@ -554,7 +540,7 @@ void World::Impl::compile(const WorldSpec& spec) {
     }
   }
   for (int k = 0; k < 4; ++k)
-    share(linears[k], 1, group(static_cast<BodyModel>(k)).linear);
+    share(linears[k], 1, group(static_cast<BodyMotion>(k)).linear);
   share(iso_rots, 0, model.iso.rot);
   share(diag_rots[0], 0, model.axi.rot);
   share(diag_rots[1], 0, model.gen.rot);
@@ -586,7 +572,7 @@ void World::Impl::compile(const WorldSpec& spec) {
 
   const auto has_drag = [&](int i) {
     const BodySpec& b = spec.bodies[i];
-    return b.angular_drag > 0.0 && !b.kinematic && slot[i].model() != BodyModel::kPoint;
+    return b.angular_drag > 0.0 && !b.kinematic && slot[i].model() != BodyMotion::kTranslation;
   };
   base_ids.clear();
   for (int i = 0; i < n; ++i) {
@@ -661,7 +647,7 @@ void World::Impl::compile(const WorldSpec& spec) {
   set_threads(spec.threads);
 }
 
-void World::Impl::swap_entries(BodyModel kind, int a, int b) {
+void World::Impl::swap_entries(BodyMotion kind, int a, int b) {
   if (a == b) return;
   const auto sw = [&](auto& v) { std::swap(v[a], v[b]); };
   Group& g = group(kind);
@@ -670,15 +656,15 @@ void World::Impl::swap_entries(BodyModel kind, int a, int b) {
   sw(g.linear.of);
   sw(g.loads);
   switch (kind) {
-    case BodyModel::kPoint:
+    case BodyMotion::kTranslation:
       break;
-    case BodyModel::kIsotropic:
+    case BodyMotion::kSteadySpin:
       sw(model.iso.rot.of), model.iso.dq.swap(a, b), sw(model.iso.dq_ok);
       break;
-    case BodyModel::kAxisymmetric:
+    case BodyMotion::kPrecession:
       sw(model.axi.rot.of), sw(model.axi.plan), sw(model.axi.plan_ok), sw(model.axi.q_BP.of);
       break;
-    case BodyModel::kGeneral:
+    case BodyMotion::kTumbling:
       sw(model.gen.rot.of), sw(model.gen.plan_ok);
       model.gen.plan.swap(a, b);
       sw(model.gen.q_BP.of);
@@ -853,16 +839,16 @@ void World::Impl::check_id(int id) const {
 void World::Impl::invalidate_cache(int id) {
   const Slot& s = slot[id];
   switch (s.model()) {
-    case BodyModel::kIsotropic:
+    case BodyMotion::kSteadySpin:
       model.iso.dq_ok[s.index()] = 0;
       break;
-    case BodyModel::kAxisymmetric:
+    case BodyMotion::kPrecession:
       model.axi.plan_ok[s.index()] = 0;
       break;
-    case BodyModel::kGeneral:
+    case BodyMotion::kTumbling:
       model.gen.plan_ok[s.index()] = 0;
       break;
-    case BodyModel::kPoint:
+    case BodyMotion::kTranslation:
       break;
   }
 }
@@ -873,10 +859,10 @@ void World::Impl::set_state(int id, const BodyState& st) {
   m.x = st.p_WBo;
   m.v = st.v_WBo;
   for (int a = 0; a < 3; ++a) {
-    if (b.freeze_translation[a] && !b.kinematic) m.v[a] = 0.0;
+    if (!allows(b.allowed_dofs, translation_dof(a)) && !b.kinematic()) m.v[a] = 0.0;
   }
   const Slot& s = slot[id];
-  if (s.model() == BodyModel::kPoint) {
+  if (s.model() == BodyMotion::kTranslation) {
     // A point mass keeps its orientation and never turns.
     m.q = st.q_WB.normalized();
     m.spin.setZero();
@@ -884,18 +870,18 @@ void World::Impl::set_state(int id, const BodyState& st) {
     m.q = (st.q_WB.normalized() * rot_BP(id)).normalized();
     const Vec3 w_P = m.q.conjugate() * st.w_WB;
     switch (s.model()) {
-      case BodyModel::kIsotropic: {
+      case BodyMotion::kSteadySpin: {
         const IsoRot& r = model.iso.rot(s.index());
         m.spin = r.hinge != 0.0 ? Vec3(r.axis * r.axis.dot(w_P)) : w_P;
         break;
       }
-      case BodyModel::kAxisymmetric:
+      case BodyMotion::kPrecession:
         m.spin = model.axi.rot(s.index()).spin_of(w_P);
         break;
-      case BodyModel::kGeneral:
+      case BodyMotion::kTumbling:
         m.spin = model.gen.rot(s.index()).spin_of(w_P);
         break;
-      case BodyModel::kPoint:
+      case BodyMotion::kTranslation:
         break;
     }
   }
@@ -911,16 +897,16 @@ void World::Impl::apply_pending_impulses() {
     m.v += g.linear(s.index()).inv_m.cwiseProduct(p.J);
     const Vec3 dL_P = m.q.conjugate() * p.L;
     switch (s.model()) {
-      case BodyModel::kIsotropic:
+      case BodyMotion::kSteadySpin:
         m.spin += model.iso.rot(s.index()).spin_rate(dL_P);
         break;
-      case BodyModel::kAxisymmetric:
+      case BodyMotion::kPrecession:
         m.spin += model.axi.rot(s.index()).spin_rate(dL_P);
         break;
-      case BodyModel::kGeneral:
+      case BodyMotion::kTumbling:
         m.spin += model.gen.rot(s.index()).spin_rate(dL_P);
         break;
-      case BodyModel::kPoint:
+      case BodyMotion::kTranslation:
         break;
     }
     invalidate_cache(id);
@@ -933,16 +919,16 @@ Vec3 World::Impl::angular_momentum_P(int id) const {
   const Slot& s = slot[id];
   const Motion& m = motion(id);
   switch (s.model()) {
-    case BodyModel::kPoint:
+    case BodyMotion::kTranslation:
       return Vec3::Zero();
-    case BodyModel::kIsotropic: {
+    case BodyMotion::kSteadySpin: {
       const IsoRot& r = model.iso.rot(s.index());
       // A kinematic body has no inertia to speak of: report what its spec's tensor would give.
       if (r.inv_I == 0.0) return specs.params(id).I_B * m.spin;
       return m.spin / r.inv_I;
     }
-    case BodyModel::kAxisymmetric:
-    case BodyModel::kGeneral:
+    case BodyMotion::kPrecession:
+    case BodyMotion::kTumbling:
       return m.spin;  // the angular momentum itself
   }
   return Vec3::Zero();
@@ -952,13 +938,13 @@ Vec3 World::Impl::omega_P(int id) const {
   const Slot& s = slot[id];
   const Motion& m = motion(id);
   switch (s.model()) {
-    case BodyModel::kPoint:
+    case BodyMotion::kTranslation:
       return Vec3::Zero();
-    case BodyModel::kIsotropic:
+    case BodyMotion::kSteadySpin:
       return model.iso.rot(s.index()).omega(m.spin);
-    case BodyModel::kAxisymmetric:
+    case BodyMotion::kPrecession:
       return model.axi.rot(s.index()).omega(m.spin);
-    case BodyModel::kGeneral:
+    case BodyMotion::kTumbling:
       return model.gen.rot(s.index()).omega(m.spin);
   }
   return Vec3::Zero();
@@ -1110,9 +1096,17 @@ std::string_view World::body_name(int id) const {
   impl_->check_id(id);
   return impl_->specs.name(id);
 }
-BodyModel World::body_model(int id) const {
+BodyMotion World::body_motion(int id) const {
   impl_->check_id(id);
   return impl_->slot[id].model();
+}
+MotionType World::motion_type(int id) const {
+  impl_->check_id(id);
+  return impl_->specs.params(id).motion_type;
+}
+AllowedDofs World::allowed_dofs(int id) const {
+  impl_->check_id(id);
+  return impl_->specs.params(id).allowed_dofs;
 }
 Vec3 World::principal_moments(int id) const {
   impl_->check_id(id);
@@ -1120,16 +1114,16 @@ Vec3 World::principal_moments(int id) const {
   const Impl& w = *impl_;
   const Slot& s = w.slot[id];
   switch (s.model()) {
-    case BodyModel::kPoint:
+    case BodyMotion::kTranslation:
       break;
-    case BodyModel::kIsotropic: {
+    case BodyMotion::kSteadySpin: {
       const double inv_I = w.model.iso.rot(s.index()).inv_I;
       return inv_I > 0 ? Vec3::Constant(1.0 / inv_I)
                        : principal_inertia(w.specs.params(id).I_B).moments;
     }
-    case BodyModel::kAxisymmetric:
+    case BodyMotion::kPrecession:
       return w.model.axi.rot(s.index()).I;
-    case BodyModel::kGeneral:
+    case BodyMotion::kTumbling:
       return w.model.gen.rot(s.index()).I;
   }
   return Vec3::Zero();
@@ -1145,7 +1139,7 @@ BodyState World::state(int id) const {
   BodyState s;
   s.p_WBo = m.x;
   s.v_WBo = m.v;
-  if (impl_->slot[id].model() == BodyModel::kPoint) {
+  if (impl_->slot[id].model() == BodyMotion::kTranslation) {
     s.q_WB = m.q;
     s.w_WB.setZero();
   } else {
@@ -1302,7 +1296,7 @@ bool World::is_frozen(int id) const {
 void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.specs.params(id).kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic() || w.frozen[id]) return;
   const Quat q_PB = w.rot_BP(id).conjugate();
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.load(id).quiet();
@@ -1315,7 +1309,7 @@ void World::add_force(int id, const Vec3& f, const Vec3& p_BoQ_B, Frame frame) {
 void World::add_torque(int id, const Vec3& tau, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.specs.params(id).kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic() || w.frozen[id]) return;
   const bool body = frame == Frame::kBody;
   const bool was_quiet = w.load(id).quiet();
   Loads v = w.load_value(id);
@@ -1327,7 +1321,7 @@ void World::add_torque(int id, const Vec3& tau, Frame frame) {
 void World::apply_impulse(int id, const Vec3& J, const Vec3& p_BoQ_B, Frame frame) {
   Impl& w = *impl_;
   w.check_id(id);
-  if (w.specs.params(id).kinematic || w.frozen[id]) return;
+  if (w.specs.params(id).kinematic() || w.frozen[id]) return;
   const BodyState s = state(id);
   const Vec3 J_W = frame == Frame::kBody ? Vec3(s.q_WB * J) : J;
   const Vec3 r_W = s.q_WB * p_BoQ_B;

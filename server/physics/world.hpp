@@ -23,6 +23,7 @@
 #include <string_view>
 #include <thread>
 
+#include "physics/body_motion.hpp"
 #include "physics/integrator.hpp"
 #include "physics/spec.hpp"
 
@@ -63,10 +64,6 @@ struct StateRows {
   double* v_WBo;
   double* w_WB;
 };
-
-// The cheapest exact model a body compiled to.
-enum class BodyModel { kPoint, kIsotropic, kAxisymmetric, kGeneral };
-std::string_view to_string(BodyModel m);
 
 class World {
  public:
@@ -128,7 +125,11 @@ class World {
   // (World keeps specs compactly: spec_store.hpp); body_name alone copies nothing.
   BodySpec body_spec(int id) const;
   std::string_view body_name(int id) const;
-  BodyModel body_model(int id) const;
+  // The motion group the body compiled to (body_motion.hpp), and its motion type and free degrees
+  // of freedom as its spec gives them.
+  BodyMotion body_motion(int id) const;
+  MotionType motion_type(int id) const;
+  AllowedDofs allowed_dofs(int id) const;
   // Principal moments (ascending) and the rotation from the principal frame P to B.
   Vec3 principal_moments(int id) const;
   Quat q_BP(int id) const;

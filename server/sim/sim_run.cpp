@@ -88,7 +88,7 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
   for (int id = 0; id < world.body_count(); ++id) {
     BodySummary b;
     b.name = world.body_name(id);
-    b.model = world.body_model(id);
+    b.motion = world.body_motion(id);
     b.ke0 = world.kinetic_energy(id);
     b.L0 = world.angular_momentum_W(id);
     r.bodies.push_back(b);
@@ -155,11 +155,11 @@ void print_summary(std::ostream& out, const RunSummary& r) {
       name_width = std::max(name_width, b.name.size());
     name_width += 2;
     out << '\n'
-        << pad("body", name_width) << pad("model", 14)
+        << pad("body", name_width) << pad("motion", 14)
         << fmt("%12s %12s %12s   %-14s %s\n", "x (m)", "y (m)", "z (m)", "dKE/KE(0)",
                "|dL|/|L(0)|");
     for (const BodySummary& b : r.bodies) {
-      out << pad(b.name, name_width) << pad(std::string(physics::to_string(b.model)), 14)
+      out << pad(b.name, name_width) << pad(std::string(physics::to_string(b.motion)), 14)
           << fmt("%12.5g %12.5g %12.5g   ", b.p_final.x(), b.p_final.y(), b.p_final.z())
           << pad(change(b.ke0, b.ke - b.ke0), 14) << ' '
           << change(b.L0.norm(), (b.L - b.L0).norm(), false) << '\n';

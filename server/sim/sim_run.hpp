@@ -15,7 +15,7 @@ namespace rigid::sim {
 
 struct BodySummary {
   std::string name;
-  physics::BodyModel model = physics::BodyModel::kGeneral;
+  physics::BodyMotion motion = physics::BodyMotion::kTumbling;
   physics::Vec3 p_final = physics::Vec3::Zero();
   // Kinetic energy and angular momentum about the centre of mass (in W), at t = 0 and at the end.
   double ke0 = 0.0, ke = 0.0;

@@ -496,7 +496,7 @@ TEST(Lanes, GeneralBodiesOfEitherSignMatchTheReference) {
   w.step(static_cast<int>(std::lround(T / ws.dt)));
   for (std::size_t i = 0; i < w0.size(); ++i) {
     const int id = static_cast<int>(i);
-    ASSERT_EQ(w.body_model(id), physics::BodyModel::kGeneral);
+    ASSERT_EQ(w.body_motion(id), physics::BodyMotion::kTumbling);
     const RefState ref = free_reference(I, w0[i], T, 20000);
     const Quat q_ref = to_double(ref.q);
     const Vec3 w_ref_W = q_ref * to_double(ref.w);

@@ -19,7 +19,7 @@
 namespace rigid::test {
 namespace {
 
-using physics::BodyModel;
+using physics::BodyMotion;
 using physics::BodyState;
 using physics::Frame;
 using physics::LoadSpec;
@@ -133,16 +133,58 @@ TEST(WorldModel, EachBodyCompilesToTheCheapestExactModel) {
   kin.kinematic = true;
   ws.bodies.push_back(kin);
   World w(ws);
-  EXPECT_EQ(w.body_model(0), BodyModel::kIsotropic);
-  EXPECT_EQ(w.body_model(1), BodyModel::kAxisymmetric);
-  EXPECT_EQ(w.body_model(2), BodyModel::kAxisymmetric);
-  EXPECT_EQ(w.body_model(3), BodyModel::kGeneral);
-  EXPECT_EQ(w.body_model(4), BodyModel::kPoint);
-  EXPECT_EQ(w.body_model(5), BodyModel::kPoint);
-  EXPECT_EQ(w.body_model(6), BodyModel::kIsotropic);
-  EXPECT_EQ(w.body_model(7), BodyModel::kIsotropic);
+  EXPECT_EQ(w.body_motion(0), BodyMotion::kSteadySpin);
+  EXPECT_EQ(w.body_motion(1), BodyMotion::kPrecession);
+  EXPECT_EQ(w.body_motion(2), BodyMotion::kPrecession);
+  EXPECT_EQ(w.body_motion(3), BodyMotion::kTumbling);
+  EXPECT_EQ(w.body_motion(4), BodyMotion::kTranslation);
+  EXPECT_EQ(w.body_motion(5), BodyMotion::kTranslation);
+  EXPECT_EQ(w.body_motion(6), BodyMotion::kSteadySpin);
+  EXPECT_EQ(w.body_motion(7), BodyMotion::kSteadySpin);
   EXPECT_EQ(w.find_body("prolate"), 2);
   EXPECT_EQ(w.find_body("nope"), -1);
+}
+
+// A body's kinematic flag and frozen axes are its motion type and allowed degrees of freedom,
+// whatever group it compiled to; body_spec gives them back as the spec had them.
+TEST(WorldModel, MotionTypeAndAllowedDofsAreTheSpecsFlags) {
+  using physics::AllowedDofs;
+  using physics::MotionType;
+  WorldSpec ws;
+  ws.bodies.push_back(body("free", {1, 2, 2.5}));
+  BodySpec hinge = body("hinge", {1, 2, 2.5});
+  hinge.freeze_rotation = {true, false, true};
+  hinge.freeze_translation = {false, false, true};
+  ws.bodies.push_back(hinge);
+  BodySpec still = body("still", {1, 2, 2.5});
+  still.kinematic = true;
+  ws.bodies.push_back(still);
+  BodySpec spinning = body("spinning", {1, 2, 2.5}, {0, 0, 1});
+  spinning.kinematic = true;
+  spinning.freeze_translation = {true, false, false};
+  ws.bodies.push_back(spinning);
+  World w(ws);
+  EXPECT_EQ(w.motion_type(0), MotionType::kDynamic);
+  EXPECT_EQ(w.allowed_dofs(0), AllowedDofs::kAll);
+  EXPECT_EQ(w.motion_type(1), MotionType::kDynamic);
+  EXPECT_EQ(w.allowed_dofs(1),
+            AllowedDofs::kTranslationX | AllowedDofs::kTranslationY | AllowedDofs::kRotationY);
+  EXPECT_EQ(physics::locked_rotations(w.allowed_dofs(1)), 2);
+  EXPECT_EQ(w.body_motion(1), BodyMotion::kSteadySpin);
+  EXPECT_EQ(w.motion_type(2), MotionType::kKinematic);
+  EXPECT_EQ(w.body_motion(2), BodyMotion::kTranslation);
+  EXPECT_EQ(w.motion_type(3), MotionType::kKinematic);
+  EXPECT_EQ(w.allowed_dofs(3),
+            AllowedDofs::kTranslationY | AllowedDofs::kTranslationZ | AllowedDofs::kAllRotation);
+  EXPECT_EQ(w.body_motion(3), BodyMotion::kSteadySpin);
+  for (int id = 0; id < w.body_count(); ++id) {
+    const BodySpec b = w.body_spec(id);
+    EXPECT_EQ(b.kinematic, ws.bodies[id].kinematic) << id;
+    EXPECT_EQ(b.freeze_translation, ws.bodies[id].freeze_translation) << id;
+    EXPECT_EQ(b.freeze_rotation, ws.bodies[id].freeze_rotation) << id;
+  }
+  EXPECT_EQ(physics::to_string(BodyMotion::kPrecession), "precession");
+  EXPECT_EQ(physics::to_string(MotionType::kKinematic), "kinematic");
 }
 
 // One body of each model (isotropic, axisymmetric both ways, general), each with its inertia
@@ -485,7 +527,7 @@ TEST(WorldStep, GeneralBodiesStepAsAloneWhateverTheyShare) {
     World alone(one_body(bodies[k], 1e-3, ""));
     alone.step(300);
     const int id = static_cast<int>(k);
-    EXPECT_EQ(w.body_model(id), BodyModel::kGeneral);
+    EXPECT_EQ(w.body_motion(id), BodyMotion::kTumbling);
     EXPECT_EQ(w.state(id).q_WB.coeffs(), alone.state(0).q_WB.coeffs()) << "body " << k;
     EXPECT_EQ(w.state(id).w_WB, alone.state(0).w_WB) << "body " << k;
   }
@@ -629,7 +671,7 @@ TEST(WorldCold, MomentsAndPrincipalFramesComeFromTheModel) {
     // q_BP diagonalises the spec's tensor (P = B for point masses and isotropic bodies).
     const Mat3 R = w.q_BP(i).toRotationMatrix();
     const Mat3 I_P = R.transpose() * ws.bodies[i].I_B * R;
-    if (w.body_model(i) == BodyModel::kAxisymmetric || w.body_model(i) == BodyModel::kGeneral) {
+    if (w.body_motion(i) == BodyMotion::kPrecession || w.body_motion(i) == BodyMotion::kTumbling) {
       EXPECT_LT((I_P - Mat3(w.principal_moments(i).asDiagonal())).norm(), 1e-12) << i;
     } else {
       EXPECT_EQ(w.q_BP(i).coeffs(), Quat::Identity().coeffs()) << i;

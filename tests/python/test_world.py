@@ -254,7 +254,7 @@ def test_energy_and_momenta_agree_with_the_state() -> None:
     assert np.allclose(w.linear_momentum(), (m[:, None] * v).sum(axis=0), rtol=1e-14, atol=0)
     for i, name in enumerate(w.body_names):
         assert np.array_equal(w.linear_momentum(name), m[i] * v[i])
-        if w.body_model(name) == "point":
+        if w.body_motion(name) == "translation":
             continue
         # T = m v.v / 2 + w.L / 2, with L in W.
         L = w.angular_momentum(name)

@@ -147,12 +147,12 @@ TEST(SimRun, SummaryTracksTheConservedQuantities) {
   ASSERT_EQ(r.bodies.size(), 2u);
   // The ball falls freely: it gains kinetic energy, and has no angular momentum.
   EXPECT_EQ(r.bodies[0].name, "ball");
-  EXPECT_EQ(r.bodies[0].model, physics::BodyModel::kIsotropic);
+  EXPECT_EQ(r.bodies[0].motion, physics::BodyMotion::kSteadySpin);
   EXPECT_EQ(r.bodies[0].ke0, 0.0);
   EXPECT_NEAR(r.bodies[0].ke, 0.5 * 9.81 * 9.81 * 0.25, 1e-9);
   EXPECT_NEAR(r.bodies[0].p_final.z(), -0.5 * 9.81 * 0.25, 1e-9);
   // The spinner is torque-free: kinetic energy and angular momentum are conserved.
-  EXPECT_EQ(r.bodies[1].model, physics::BodyModel::kGeneral);
+  EXPECT_EQ(r.bodies[1].motion, physics::BodyMotion::kTumbling);
   EXPECT_GT(r.bodies[1].ke0, 0.0);
   EXPECT_NEAR(r.bodies[1].ke, r.bodies[1].ke0, 1e-6 * r.bodies[1].ke0);
   EXPECT_LT((r.bodies[1].L - r.bodies[1].L0).norm(), 1e-6 * r.bodies[1].L0.norm());
@@ -164,7 +164,7 @@ TEST(SimRun, SummaryTracksTheConservedQuantities) {
   std::ostringstream text;
   print_summary(text, r);
   const std::string s = text.str();
-  for (const char* fragment : {"small.pbtxt", "ball", "spinner", "isotropic", "general",
+  for (const char* fragment : {"small.pbtxt", "ball", "spinner", "steady_spin", "tumbling",
                                "total energy", "wall time", "ns per body-step"}) {
     EXPECT_NE(s.find(fragment), std::string::npos) << fragment << " not in:\n" << s;
   }

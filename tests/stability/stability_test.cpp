@@ -166,7 +166,7 @@ TEST_P(Stability, ExtremeInertiaRatios) {
   for (const Case& c :
        {Case{{1, 1, 1e-3}, {0.5, 0, 50}, 6e-5}, Case{{1, 1e3, 1e3}, {10, 0.1, 0}, 1e-7}}) {
     World w(one_body(body("thin", c.I, c.w), 1e-3, name()));
-    EXPECT_EQ(w.body_model(0), physics::BodyModel::kAxisymmetric);
+    EXPECT_EQ(w.body_motion(0), physics::BodyMotion::kPrecession);
     const double E0 = w.kinetic_energy(0);
     const Vec3 L0 = w.angular_momentum_W(0);
     w.step(10000);
@@ -204,8 +204,8 @@ TEST_P(Stability, NearDegenerateMomentsMatchTheAxisymmetricModel) {
   const Vec3 w0(1.0, 0.5, 3.0);
   World near(one_body(body("near", {1, 1 + 1e-9, 2}, w0), 1e-3, name()));
   World axi(one_body(body("axi", {1, 1, 2}, w0), 1e-3, name()));
-  EXPECT_EQ(near.body_model(0), physics::BodyModel::kGeneral);
-  EXPECT_EQ(axi.body_model(0), physics::BodyModel::kAxisymmetric);
+  EXPECT_EQ(near.body_motion(0), physics::BodyMotion::kTumbling);
+  EXPECT_EQ(axi.body_motion(0), physics::BodyMotion::kPrecession);
   near.step(5000);
   axi.step(5000);
   EXPECT_LT(angle_between(near.state(0).q_WB, axi.state(0).q_WB), 1e-7);

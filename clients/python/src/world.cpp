@@ -320,8 +320,8 @@ class PyWorld {
     return vec3_array(world_.principal_moments(id));
   }
 
-  std::string body_model(const py::handle& b) const {
-    return std::string(physics::to_string(world_.body_model(body(b))));
+  std::string body_motion(const py::handle& b) const {
+    return std::string(physics::to_string(world_.body_motion(body(b))));
   }
 
   std::vector<int> frozen_bodies() const {
@@ -558,10 +558,11 @@ the whole world's about the world origin (kinematic bodies excluded).)doc")
       .def("principal_moments", &PyWorld::principal_moments, py::arg("body"),
            "principal_moments(body: str | int) -> ndarray (3,)\n\nPrincipal moments of inertia, "
            "ascending (kg m^2).")
-      .def("body_model", &PyWorld::body_model, py::arg("body"),
-           "body_model(body: str | int) -> str\n\nThe cheapest exact model the body compiled to: "
-           "point, isotropic, axisymmetric or "
-           "general.")
+      .def("body_motion", &PyWorld::body_motion, py::arg("body"),
+           "body_motion(body: str | int) -> str\n\nThe motion group the body compiled to, named by "
+           "the cheapest exact motion for it: translation (never turns), steady_spin (turns about "
+           "an axis fixed in the body: isotropic bodies, hinges, kinematic spinning bodies), "
+           "precession (axisymmetric) or tumbling (general).")
       .def_property_readonly(
           "time", [](const PyWorld& w) { return w.world().time(); },
           "Simulated time (s): step_count * dt.")
