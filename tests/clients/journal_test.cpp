@@ -4,7 +4,8 @@
 // journaled state bit for bit. Then the failure reports: a changed command is a divergence with
 // its tick (exit 3), a gap stops the replay (exit 4), a damaged tail is replayed up to the damage.
 //
-// Its own program: it replaces operator new to count allocations on the loop thread.
+// Its own program: operator new is replaced (tests/physics/allocation_counter.hpp) to count the
+// allocations on the loop thread.
 #include "loop/journal.hpp"
 
 #include <gtest/gtest.h>
@@ -12,12 +13,11 @@
 
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
-#include <new>
 #include <random>
 #include <thread>
 
+#include "allocation_counter.hpp"
 #include "loop/log.hpp"
 #include "loop/loop.hpp"
 #include "records/log_records.hpp"
@@ -25,45 +25,6 @@
 #include "scene/scene.hpp"
 #include "sim/replay.hpp"
 #include "test_dir.hpp"
-
-namespace {
-
-thread_local bool t_counting = false;
-std::atomic<long> g_loop_allocations{0};
-
-void* allocate(std::size_t size) {
-  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-
-}  // namespace
-
-void* operator new(std::size_t size) {
-  return allocate(size);
-}
-void* operator new[](std::size_t size) {
-  return allocate(size);
-}
-// By default the nothrow form calls the one above, but a sanitizer runtime defines its own, which
-// would pair its allocation with the free() below (ASan: alloc-dealloc-mismatch) and escape the
-// count (std::stable_sort takes its buffer from it).
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace rigid::loop {
 namespace {
@@ -132,11 +93,10 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
   RejectCounters rejects;
   Loop loop(s.world, config, queue, doorbell, rejects, out);
   journal.start();
-  g_loop_allocations = 0;
+  rigid::test::reset_counted_allocations();
   std::thread loop_thread([&] {
-    t_counting = true;
+    const rigid::test::CountingThread counting;
     loop.run();
-    t_counting = false;
   });
 
   std::mt19937_64 random(20240611);
@@ -180,7 +140,7 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
   loop.request_stop();
   loop_thread.join();
   journal.stop();
-  result.loop_allocations = g_loop_allocations.load();
+  result.loop_allocations = rigid::test::counted_allocations();
   result.accepted = loop.commands_accepted();
   result.published = published.load();
   return result;

@@ -1,60 +1,23 @@
 // "No allocation on the loop thread after start-up", proved: operator new is replaced in this test
-// program to count the allocations made on the thread that runs Loop::run(), while the loop is
-// driven through everything it does: ticks in each mode, wrenches (new, replaced, expiring, stale),
-// every control request, resets, refusals, and the hand-off to real Publishers (over a fake bus).
+// program (tests/physics/allocation_counter.hpp, every form) to count the allocations made on the
+// thread that runs Loop::run(), while the loop is driven through everything it does: ticks in each
+// mode, wrenches (new, replaced, expiring, stale), every control request, resets, refusals, and the
+// hand-off to real Publishers (over a fake bus).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <new>
 #include <string>
 #include <thread>
 
+#include "allocation_counter.hpp"
 #include "loop/journal.hpp"
 #include "loop/publisher.hpp"
 #include "loop_harness.hpp"
 #include "rigid.pb.h"
-
-namespace {
-
-// Counting is per thread: only the loop thread turns it on.
-thread_local bool t_counting = false;
-std::atomic<long> g_loop_allocations{0};
-
-void* allocate(std::size_t size) {
-  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-
-}  // namespace
-
-void* operator new(std::size_t size) {
-  return allocate(size);
-}
-void* operator new[](std::size_t size) {
-  return allocate(size);
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  if (t_counting) g_loop_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace rigid::loop {
 namespace {
@@ -209,11 +172,10 @@ void expect_no_allocations(Mode mode, bool journaling = false, const char* scene
   }
   rig.a.start();
   rig.b.start();
-  g_loop_allocations = 0;
+  rigid::test::reset_counted_allocations();
   std::thread loop_thread([&] {
-    t_counting = true;
+    const rigid::test::CountingThread counting;
     rig.loop.run();
-    t_counting = false;
   });
 
   std::int64_t seq = 1, control_seq = 1;
@@ -265,7 +227,7 @@ void expect_no_allocations(Mode mode, bool journaling = false, const char* scene
     std::filesystem::remove(path);
   }
 
-  EXPECT_EQ(g_loop_allocations.load(), 0) << "allocations on the loop thread";
+  EXPECT_EQ(rigid::test::counted_allocations(), 0) << "allocations on the loop thread";
   // The run did what it was meant to: ticks, accepted and refused commands, replies, states.
   EXPECT_GT(rig.loop.totals().ticks_stepped, 100);
   EXPECT_GT(rig.loop.commands_accepted(), 100);
@@ -302,16 +264,17 @@ TEST(LoopAllocation, AFrozenBodyAllocatesNothingOnTheLoopThread) {
 }
 
 TEST(LoopAllocation, TheCounterSeesAllocations) {
-  // The instrument works: an allocation on a counting thread is counted.
-  g_loop_allocations = 0;
+  // The instrument works: allocations on a counting thread are counted, over-aligned ones too
+  // (explicit calls: the compiler may elide a new-expression paired with its delete).
+  rigid::test::reset_counted_allocations();
   std::thread t([] {
-    t_counting = true;
-    auto* p = new int(3);
-    delete p;
-    t_counting = false;
+    const rigid::test::CountingThread counting;
+    ::operator delete(::operator new(sizeof(int)));
+    constexpr std::align_val_t kLine{64};
+    ::operator delete(::operator new(64, kLine), kLine);
   });
   t.join();
-  EXPECT_EQ(g_loop_allocations.load(), 1);
+  EXPECT_EQ(rigid::test::counted_allocations(), 2);
 }
 
 }  // namespace

@@ -12,47 +12,16 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <memory>
-#include <new>
 #include <set>
 #include <string>
 #include <vector>
 
-// Allocations made by the test thread while `t_counting` is set: receive() must make none.
-namespace {
-std::atomic<long> g_allocations{0};
-thread_local bool t_counting = false;
-
-void* allocate(std::size_t size) {
-  if (t_counting) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-}  // namespace
-
-void* operator new(std::size_t size) {
-  return allocate(size);
-}
-void* operator new[](std::size_t size) {
-  return allocate(size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "allocation_counter.hpp"
 
 namespace rigid::transport::lcm {
 namespace {
@@ -376,23 +345,23 @@ TEST(LcmCommandSocket, DropsFragmentedMessagesWithoutAllocating) {
   };
 
   // The counter counts (an explicit operator new call cannot be optimized away).
-  g_allocations = 0;
-  t_counting = true;
-  ::operator delete(::operator new(16));
-  t_counting = false;
-  ASSERT_EQ(g_allocations.load(), 1);
+  rigid::test::reset_counted_allocations();
+  {
+    const rigid::test::CountingThread counting;
+    ::operator delete(::operator new(16));
+  }
+  ASSERT_EQ(rigid::test::counted_allocations(), 1);
 
-  g_allocations = 0;
+  rigid::test::reset_counted_allocations();
   const auto deadline = Clock::now() + 5s;
   while (!marker && Clock::now() < deadline) {
     pollfd entry{socket->fd(), POLLIN, 0};
     ASSERT_GE(::poll(&entry, 1, 50), 0);
-    t_counting = true;
+    const rigid::test::CountingThread counting;
     socket->receive(on_message, on_rejected);
-    t_counting = false;
   }
   ASSERT_TRUE(marker) << "the marker message did not arrive within 5 s";
-  EXPECT_EQ(g_allocations.load(), 0) << "receive() allocated";
+  EXPECT_EQ(rigid::test::counted_allocations(), 0) << "receive() allocated";
 
   EXPECT_EQ(delivered, 2U);  // the largest short message and the marker
   EXPECT_EQ(largest_delivered, 1U);
