@@ -1,5 +1,7 @@
 #include "server.hpp"
 
+#include <algorithm>
+#include <array>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -11,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 namespace rigid::view {
@@ -30,20 +33,89 @@ struct File {
   std::string body;
 };
 
-// The page's files: URL path -> (file under the web directory, content type).
-constexpr std::array<std::array<const char*, 3>, 11> kFiles{{
-    {"/", "index.html", "text/html; charset=utf-8"},
-    {"/app.js", "app.js", "text/javascript; charset=utf-8"},
-    {"/drift.js", "drift.js", "text/javascript; charset=utf-8"},  // energy, momentum drift
-    {"/plot.js", "plot.js", "text/javascript; charset=utf-8"},    // the plots
-    {"/worker_socket.js", "worker_socket.js", "text/javascript; charset=utf-8"},  // its WebSocket
-    {"/timeline.js", "timeline.js", "text/javascript; charset=utf-8"},  // playback's timeline
-    {"/render_scale.js", "render_scale.js", "text/javascript; charset=utf-8"},  // resolution
-    {"/redraw.js", "redraw.js", "text/javascript; charset=utf-8"},              // draw on change
-    {"/three/three.module.js", "three/three.module.js", "text/javascript; charset=utf-8"},
-    {"/three/three.core.js", "three/three.core.js", "text/javascript; charset=utf-8"},
-    {"/three/OrbitControls.js", "three/OrbitControls.js", "text/javascript; charset=utf-8"},
+// The page's files: web_dir/kServedList names them, one path (relative to web_dir) a line, as the
+// build writes it from the one list of the page's files (clients/view/CMakeLists.txt); each is
+// served at "/" + its path (index.html at "/"), with the content type of its extension. Nothing
+// else in web_dir is served. Bounded: the memory they take is read once, at start.
+constexpr std::string_view kServedList = "served_files.txt";
+constexpr std::size_t kMaxServedFiles = 256;
+constexpr std::size_t kMaxServedPath = 200;                           // characters of one path
+constexpr std::uintmax_t kMaxServedBytes = std::uintmax_t{64} << 20;  // all files together
+
+constexpr std::array<std::pair<std::string_view, std::string_view>, 3> kContentTypes{{
+    {".html", "text/html; charset=utf-8"},
+    {".js", "text/javascript; charset=utf-8"},
+    {".css", "text/css; charset=utf-8"},
 }};
+
+// The content type for a path of the list, or "" if it is not a path the page's files may have:
+// relative, without "." or ".." parts or empty ones, of letters, digits, '_', '-', '.' and '/'.
+std::string_view served_type(std::string_view path) {
+  if (path.empty() || path.size() > kMaxServedPath || path.front() == '/') return {};
+  for (const char c : path) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '_' || c == '-' || c == '.' || c == '/';
+    if (!plain) return {};
+  }
+  for (std::size_t start = 0; start <= path.size();) {
+    const std::size_t end = std::min(path.find('/', start), path.size());
+    const std::string_view part = path.substr(start, end - start);
+    if (part.empty() || part == "." || part == "..") return {};
+    start = end + 1;
+  }
+  for (const auto& [extension, type] : kContentTypes)
+    if (path.size() > extension.size() && path.ends_with(extension)) return type;
+  return {};
+}
+
+[[noreturn]] void no_page(const std::filesystem::path& web_dir, const std::string& what) {
+  throw std::runtime_error("the page's files in " + web_dir.string() + ": " + what +
+                           " (--web-dir; three.js: npm ci in clients/view/web, then rebuild)");
+}
+
+// URL path -> the file, read from web_dir as its kServedList names them; or throws, naming the
+// list's line or the file at fault.
+std::map<std::string, File, std::less<>> read_page(const std::filesystem::path& web_dir) {
+  const std::filesystem::path list_path = web_dir / kServedList;
+  std::error_code list_ec;
+  const std::uintmax_t list_bytes = std::filesystem::file_size(list_path, list_ec);
+  std::ifstream list(list_path);
+  if (list_ec || !list) no_page(web_dir, std::string(kServedList) + " is missing or unreadable");
+  if (list_bytes > kMaxServedFiles * (kMaxServedPath + 1))
+    no_page(web_dir, std::string(kServedList) + " is too long to be a list of the page's files");
+  std::map<std::string, File, std::less<>> files;
+  std::uintmax_t bytes = 0;
+  std::string path;
+  for (std::size_t line = 1; std::getline(list, path); ++line) {
+    const std::string where = std::string(kServedList) + " line " + std::to_string(line);
+    if (files.size() >= kMaxServedFiles)
+      no_page(web_dir, where + ": more than " + std::to_string(kMaxServedFiles) + " files");
+    const std::string_view type = served_type(path);
+    if (type.empty()) {
+      no_page(web_dir, where + ": '" + path.substr(0, kMaxServedPath) +
+                           "' is not a relative path of an .html, .js or .css file");
+    }
+    const std::filesystem::path file = web_dir / path;
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(file, ec);
+    if (ec) no_page(web_dir, path + " (" + where + ") is missing or unreadable");
+    if (size > kMaxServedBytes - bytes)
+      no_page(web_dir,
+              "more than " + std::to_string(kMaxServedBytes >> 20) + " MiB of files, at " + path);
+    bytes += size;
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream body;
+    if (!in || (size > 0 && !(body << in.rdbuf())))
+      no_page(web_dir, path + " (" + where + ") is missing or unreadable");
+    const std::string url = path == "index.html" ? "/" : "/" + path;
+    if (!files.emplace(url, File{std::string(type), body.str()}).second)
+      no_page(web_dir, where + ": " + path + " is named twice");
+  }
+  if (!list.eof()) no_page(web_dir, std::string(kServedList) + " is unreadable");
+  if (!files.contains("/"))
+    no_page(web_dir, std::string(kServedList) + " does not name index.html");
+  return files;
+}
 
 }  // namespace
 
@@ -349,17 +421,7 @@ ViewServer::ViewServer(const ServerOptions& options, CommandHandler on_command, 
   impl_->options = options;
   impl_->on_command = std::move(on_command);
   impl_->greeting = std::move(greeting);
-  for (const auto& [url, name, type] : kFiles) {
-    const std::filesystem::path path = options.web_dir / name;
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream body;
-    if (!in || !(body << in.rdbuf()) || std::filesystem::file_size(path) > (64u << 20)) {
-      throw std::runtime_error("the page's file " + path.string() +
-                               " is missing or unreadable (--web-dir; three.js: npm ci in "
-                               "clients/view/web, then rebuild)");
-    }
-    impl_->files[url] = File{type, body.str()};
-  }
+  impl_->files = read_page(options.web_dir);
   beast::error_code ec;
   const auto address = net::ip::make_address(options.host, ec);
   if (ec) throw std::runtime_error("--listen: not an IP address: " + options.host);

@@ -1,5 +1,6 @@
 // rigid-view's HTTP and WebSocket server (Boost.Beast on one Asio thread): serves the page's few
-// files from memory (a fixed list, loaded at start) and one WebSocket per page at /ws.
+// files from memory (those its web directory's served_files.txt names, loaded at start) and one
+// WebSocket per page at /ws.
 //
 // Each page connection has a "latest state" slot and a short queue of texts: a state that arrives
 // while the previous one is still being written, or while the page has frames not yet
