@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,21 +14,18 @@
 namespace rigid::view {
 namespace {
 
-void put_u32(std::string& out, std::uint32_t v) {
-  char b[4];
-  std::memcpy(b, &v, 4);  // the hosts rigid runs on are little-endian (x86-64, aarch64)
-  out.append(b, 4);
-}
-void put_i64(std::string& out, std::int64_t v) {
-  char b[8];
-  std::memcpy(b, &v, 8);
-  out.append(b, 8);
-}
+// (Bytes as the host has them: the hosts rigid runs on are little-endian, x86-64 and aarch64.)
 void put_f64s(std::string& out, const double* v, std::size_t n) {
   out.append(reinterpret_cast<const char*>(v), n * sizeof(double));
 }
 void put_f32s(std::string& out, const float* v, std::size_t n) {
   out.append(reinterpret_cast<const char*>(v), n * sizeof(float));
+}
+// v's bytes at out[at], inside out (the fields of a frame's fixed parts, at their offsets in
+// protocol.hpp: the page reads them at the same ones).
+template <typename T>
+void put_at(std::string& out, std::size_t at, const T& v) {
+  std::memcpy(out.data() + at, &v, sizeof v);
 }
 
 void number(std::string& out, double v) {
@@ -181,14 +179,16 @@ namespace {
 // The header both frames share (protocol.hpp), for n bodies.
 void put_state_header(std::string& out, const StateFrame& state, std::size_t n,
                       std::uint32_t scene_generation, std::uint32_t flags) {
-  put_u32(out, kStateMagic);
-  put_u32(out, static_cast<std::uint32_t>(n));
-  put_u32(out, scene_generation);
-  put_u32(out, flags);
-  put_i64(out, state.tick);
-  const double t = state.sim_time;
-  put_f64s(out, &t, 1);
-  put_i64(out, state.stamp_ns);
+  static_assert(kStateStampAt + sizeof(std::int64_t) == kStateHeaderBytes);
+  const std::size_t at = out.size();
+  out.resize(at + kStateHeaderBytes, '\0');
+  put_at(out, at, kStateMagic);
+  put_at(out, at + kStateBodiesAt, static_cast<std::uint32_t>(n));
+  put_at(out, at + kStateGenerationAt, scene_generation);
+  put_at(out, at + kStateFlagsAt, flags);
+  put_at(out, at + kStateTickAt, state.tick);  // (i64, f64, i64: as StateFrame has them)
+  put_at(out, at + kStateSimTimeAt, state.sim_time);
+  put_at(out, at + kStateStampAt, state.stamp_ns);
 }
 
 // A per-body array of n bodies at its place, as f32 or f64; a short one (a decoder guarantees
@@ -243,26 +243,30 @@ std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_gener
   out.reserve(pose_state_bytes(n, k));
   put_state_header(out, state, n, scene_generation, kStatePoses);
   std::vector<float> narrow;
+  static_assert(kPoseBytesPerBody == (3 + 4) * sizeof(float) + sizeof(std::int32_t));
   put_real_array(out, state.position, 3, n, true, narrow);
   put_real_array(out, state.orientation, 4, n, true, narrow);
   out.append(reinterpret_cast<const char*>(state.ids.data()), n * sizeof(std::int32_t));
   // The worst drifts, as the page's DriftTable.worst() finds them in a whole frame: the largest
   // value above 0 (NaN never wins), its slot, -1 when none.
-  for (const std::vector<float>* drift : {&energy_drift, &momentum_drift}) {
+  static_assert(kPoseWatchedCountAt + 2 * sizeof(std::uint32_t) == kPoseTrailerBytes);
+  const std::size_t trailer = out.size();
+  out.resize(trailer + kPoseTrailerBytes, '\0');  // (its last 4 bytes: 0, aligning the records)
+  const auto put_worst = [&](const std::vector<float>& drift, std::size_t value_at,
+                             std::size_t slot_at) {
     float worst = 0;
     std::int32_t at = -1;
-    for (std::size_t i = 0; i < std::min(drift->size(), n); ++i) {
-      if ((*drift)[i] > worst) {
-        worst = (*drift)[i];
+    for (std::size_t i = 0; i < std::min(drift.size(), n); ++i) {
+      if (drift[i] > worst) {
+        worst = drift[i];
         at = static_cast<std::int32_t>(i);
       }
     }
-    put_f32s(out, &worst, 1);
-    out.append(reinterpret_cast<const char*>(&at), sizeof at);
-  }
-  const std::size_t count_at = out.size();
-  put_u32(out, 0);  // k, below
-  put_u32(out, 0);
+    put_at(out, trailer + value_at, worst);
+    put_at(out, trailer + slot_at, at);
+  };
+  put_worst(energy_drift, kPoseWorstEnergyAt, kPoseWorstEnergySlotAt);
+  put_worst(momentum_drift, kPoseWorstMomentumAt, kPoseWorstMomentumSlotAt);
   std::uint32_t records = 0;
   const auto real = [](const std::vector<double>& v, std::size_t i) {
     return i < v.size() ? v[i] : 0.0;
@@ -271,13 +275,14 @@ std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_gener
     const auto it = std::find(state.ids.begin(), state.ids.end(), watched[w]);
     if (it == state.ids.end()) continue;
     const auto slot = static_cast<std::size_t>(it - state.ids.begin());
-    const auto slot32 = static_cast<std::int32_t>(slot);
-    out.append(reinterpret_cast<const char*>(&slot32), sizeof slot32);
-    const float drifts[2] = {slot < energy_drift.size() ? energy_drift[slot] : 0.0f,
-                             slot < momentum_drift.size() ? momentum_drift[slot] : 0.0f};
-    put_f32s(out, drifts, 2);
-    put_u32(out, 0);
-    double values[13];
+    const std::size_t record = out.size();
+    out.resize(record + kWatchedRecordBytes, '\0');
+    put_at(out, record, static_cast<std::int32_t>(slot));
+    put_at(out, record + kWatchedEnergyAt, slot < energy_drift.size() ? energy_drift[slot] : 0.0f);
+    put_at(out, record + kWatchedMomentumAt,
+           slot < momentum_drift.size() ? momentum_drift[slot] : 0.0f);
+    std::array<double, 13> values{};
+    static_assert(kWatchedStateAt + sizeof values == kWatchedRecordBytes);
     for (std::size_t c = 0; c < 3; ++c) {
       values[c] = real(state.position, 3 * slot + c);
       values[7 + c] = real(state.linear_velocity, 3 * slot + c);
@@ -285,10 +290,10 @@ std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_gener
     }
     for (std::size_t c = 0; c < 4; ++c)
       values[3 + c] = real(state.orientation, 4 * slot + c);
-    put_f64s(out, values, 13);
+    put_at(out, record + kWatchedStateAt, values);
     ++records;
   }
-  std::memcpy(out.data() + count_at, &records, sizeof records);
+  put_at(out, trailer + kPoseWatchedCountAt, records);
   return out;
 }
 

@@ -46,14 +46,36 @@
 
 namespace rigid::view {
 
+// The frames' layout (see the top). The page decodes frames with these very numbers:
+// page_constants.cpp writes them into its protocol_constants.js when rigid-view is built.
 inline constexpr std::uint32_t kStateMagic = 0x33565752;  // "RWV3" (with drifts, f32 or f64)
 inline constexpr std::size_t kStateHeaderBytes = 40;
+// The header's fields, in bytes from the frame's start (the magic is at 0).
+inline constexpr std::size_t kStateBodiesAt = 4;
+inline constexpr std::size_t kStateGenerationAt = 8;
+inline constexpr std::size_t kStateFlagsAt = 12;
+inline constexpr std::size_t kStateTickAt = 16;
+inline constexpr std::size_t kStateSimTimeAt = 24;
+inline constexpr std::size_t kStateStampAt = 32;
 inline constexpr std::uint32_t kStateFloat32 = 1;  // flags: the per-body reals are f32
 inline constexpr std::uint32_t kStatePoses = 2;    // flags: a pose frame (see the top)
 inline constexpr std::size_t kExactStateMaxBodies = 256;
+// A pose frame: its per-body arrays' bytes a body, then its trailer (the worst drifts and the
+// count of watched records, in bytes from the trailer's start), then the watched records (each
+// field in bytes from the record's start; the slot is at 0).
+inline constexpr std::size_t kPoseBytesPerBody = 32;
+inline constexpr std::size_t kPoseTrailerBytes = 24;
+inline constexpr std::size_t kPoseWorstEnergyAt = 0;
+inline constexpr std::size_t kPoseWorstEnergySlotAt = 4;
+inline constexpr std::size_t kPoseWorstMomentumAt = 8;
+inline constexpr std::size_t kPoseWorstMomentumSlotAt = 12;
+inline constexpr std::size_t kPoseWatchedCountAt = 16;
 inline constexpr std::size_t kWatchedRecordBytes = 120;
-inline constexpr std::size_t kMaxWatched = 64;  // bodies in one pose frame's watched records
-inline constexpr double kWatchLifetime = 3;     // s: a page's watch lapses unless re-sent
+inline constexpr std::size_t kWatchedEnergyAt = 4;
+inline constexpr std::size_t kWatchedMomentumAt = 8;
+inline constexpr std::size_t kWatchedStateAt = 16;  // f64 position, orientation, velocities: 13
+inline constexpr std::size_t kMaxWatched = 64;      // bodies in one pose frame's watched records
+inline constexpr double kWatchLifetime = 3;         // s: a page's watch lapses unless re-sent
 // Whether a state of this many bodies goes to the page in float32, and its bytes per body.
 bool state_in_float32(std::size_t bodies);
 inline std::size_t state_bytes_per_body(std::size_t bodies) {
@@ -90,7 +112,8 @@ std::string encode_pose_state(const StateFrame& state, std::uint32_t scene_gener
                               const std::vector<float>& momentum_drift,
                               const std::vector<std::int32_t>& watched);
 inline std::size_t pose_state_bytes(std::size_t bodies, std::size_t watched) {
-  return kStateHeaderBytes + 32 * bodies + 24 + kWatchedRecordBytes * watched;
+  return kStateHeaderBytes + kPoseBytesPerBody * bodies + kPoseTrailerBytes +
+         kWatchedRecordBytes * watched;
 }
 
 // {"type":"scene", ...}: each body's id, name and what to draw: "box" (size), "sphere",

@@ -12,13 +12,10 @@ import { WorkerSocket } from '/worker_socket.js';
 import { RenderScale } from '/render_scale.js';
 import { Redraw } from '/redraw.js';
 import { createTimeline } from '/timeline.js';  // playback (rigid-view FILE)
+import { decodeState, kAckCommand, kMaxSteps, kMaxWrenchesShown, kWatchLifetime } from '/protocol.js';
 
-const kMagic = 0x33565752;  // "RWV3": reals f64, or f32 for large scenes; drifts (protocol.hpp)
-const kHeader = 40;  // bytes
-const kFloat32 = 1;  // the header's flag: the per-body reals are f32
-const kPoses = 2;  // the header's flag: a pose frame (live large scenes; watched bodies exact)
-const kWatchedRecord = 120;  // bytes of a pose frame's watched record
-const kWatchEvery = 1000;  // ms: the watch is re-sent while it holds (rigid-view lets it lapse)
+// The watch is re-sent while it holds, three times in rigid-view's lifetime of it.
+const kWatchEvery = (kWatchLifetime * 1000) / 3;  // ms
 const $ = (id) => document.getElementById(id);
 
 // Scenes of more than kManyBodies bodies are drawn for speed: without multisampling, with Lambert
@@ -698,64 +695,32 @@ function sceneSet(msg) {
   $('scene').textContent = `${msg.name || '(unnamed)'} · ${msg.bodies.length} bodies`;
 }
 
+// A state frame (protocol.js decodes it): the bodies placed, their drifts; a pose frame's watched
+// bodies then get their whole published state.
 function applyState(buffer) {
-  if (buffer.byteLength < kHeader) throw new Error('short state frame');
-  const v = new DataView(buffer);
-  if (v.getUint32(0, true) !== kMagic) throw new Error('bad state frame');
-  const n = v.getUint32(4, true);
-  if ((v.getUint32(12, true) & kPoses) !== 0) return applyPoses(buffer, v, n);
-  const f32 = (v.getUint32(12, true) & kFloat32) !== 0;
-  const real = f32 ? 4 : 8, Real = f32 ? Float32Array : Float64Array;
-  if (buffer.byteLength !== kHeader + (13 * real + 12) * n) throw new Error('state frame of the wrong length');
-  const generation = v.getUint32(8, true);
-  const tick = Number(v.getBigInt64(16, true));
-  const simTime = v.getFloat64(24, true);
-  const stampNs = v.getBigInt64(32, true);
-  const pos = new Real(buffer, kHeader, 3 * n);
-  const ori = new Real(buffer, kHeader + 3 * real * n, 4 * n);
-  const vel = new Real(buffer, kHeader + 7 * real * n, 3 * n);
-  const omega = new Real(buffer, kHeader + 10 * real * n, 3 * n);
-  const energyDrift = new Float32Array(buffer, kHeader + 13 * real * n, n);
-  const momentumDrift = new Float32Array(buffer, kHeader + (13 * real + 4) * n, n);
-  const ids = new Int32Array(buffer, kHeader + (13 * real + 8) * n, n);
-  placeBodies(n, ids, pos, ori, vel, omega);
-  drift.update(n, slots, energyDrift, momentumDrift);
-  stateApplied(tick, simTime, stampNs, n, generation);
-}
-
-// A pose frame (protocol.hpp): float32 poses of every body, the worst drifts, and the whole
-// published state of the bodies the pages watch (this page's selected body among them).
-function applyPoses(buffer, v, n) {
-  const bytes = kHeader + 32 * n + 24;
-  if (buffer.byteLength < bytes) throw new Error('pose frame of the wrong length');
-  const k = v.getUint32(bytes - 8, true);
-  if (buffer.byteLength !== bytes + kWatchedRecord * k) throw new Error('pose frame of the wrong length');
-  const generation = v.getUint32(8, true);
-  const tick = Number(v.getBigInt64(16, true));
-  const simTime = v.getFloat64(24, true);
-  const stampNs = v.getBigInt64(32, true);
-  const pos = new Float32Array(buffer, kHeader, 3 * n);
-  const ori = new Float32Array(buffer, kHeader + 12 * n, 4 * n);
-  const ids = new Int32Array(buffer, kHeader + 28 * n, n);
-  placeBodies(n, ids, pos, ori, null, null);  // velocities: the watched bodies' only, below
-  const at = kHeader + 32 * n;
-  const slotOf = (i) => (i >= 0 && i < n ? slots[i] : -1);
-  drift.report({ energy: v.getFloat32(at, true), energyAt: slotOf(v.getInt32(at + 4, true)),
-                 momentum: v.getFloat32(at + 8, true), momentumAt: slotOf(v.getInt32(at + 12, true)) });
-  for (let r = 0; r < k; ++r) {
-    const o = bytes + kWatchedRecord * r;
-    const slot = v.getInt32(o, true);
-    const b = slot >= 0 && slot < n ? bodies.get(ids[slot]) : null;
-    if (!b) continue;
-    const x = new Float64Array(buffer, o + 16, 13);
-    b.p.set(x[0], x[1], x[2]);
-    b.q.set(x[4], x[5], x[6], x[3]);
-    b.v.set(x[7], x[8], x[9]);
-    b.w.set(x[10], x[11], x[12]);
-    b.moving = true;
-    drift.set(b.index, v.getFloat32(o + 4, true), v.getFloat32(o + 8, true));
+  const f = decodeState(buffer);
+  const n = f.n;
+  placeBodies(n, f.ids, f.position, f.orientation, f.linearVelocity, f.angularVelocity);
+  if (!f.poses) {
+    drift.update(n, slots, f.energyDrift, f.momentumDrift);
+  } else {
+    const slotOf = (i) => (i >= 0 && i < n ? slots[i] : -1);
+    const w = f.worst;
+    drift.report({ energy: w.energy, energyAt: slotOf(w.energySlot), momentum: w.momentum,
+                   momentumAt: slotOf(w.momentumSlot) });
+    for (const r of f.watched) {
+      const b = r.slot >= 0 && r.slot < n ? bodies.get(f.ids[r.slot]) : null;
+      if (!b) continue;
+      const x = r.state;
+      b.p.set(x[0], x[1], x[2]);
+      b.q.set(x[4], x[5], x[6], x[3]);
+      b.v.set(x[7], x[8], x[9]);
+      b.w.set(x[10], x[11], x[12]);
+      b.moving = true;
+      drift.set(b.index, r.energy, r.momentum);
+    }
   }
-  stateApplied(tick, simTime, stampNs, n, generation);
+  stateApplied(f.tick, f.simTime, f.stampNs, n, f.generation);
 }
 
 // Each body of a state at its pose (and velocities when the frame has them: vel and omega, else
@@ -941,10 +906,11 @@ function control(op, extra = {}) {
 $('pause').onclick = () => control('pause');
 $('resume').onclick = () => control('resume');
 $('reset').onclick = () => control('reset');
+$('steps').max = String(kMaxSteps);
 $('step').onclick = () => {
   const steps = Number($('steps').value);
-  if (!Number.isInteger(steps) || steps < 1 || steps > 1000000) {
-    showAnswer('step: N must be an integer in [1, 1000000]', false);
+  if (!Number.isInteger(steps) || steps < 1 || steps > kMaxSteps) {
+    showAnswer(`step: N must be an integer in [1, ${kMaxSteps}]`, false);
     return;
   }
   control('step', { steps });
@@ -1035,11 +1001,11 @@ grabLine.frustumCulled = false;
 scene.add(grabLine);
 
 // Wrench arrows: one per wrench rigidd accepted that still acts (rigid-view forwards the newest
-// per source, body and key, at most kMaxWrenchesShown = 64, 20 times a second; in playback the
+// per source, body and key, at most kMaxWrenchesShown, 20 times a second; in playback the
 // recorded ones acting on the state shown), at its application point, along its force,
 // kArrowMetresPerNewton long; and for its torque, a circular arrow about the torque's axis
 // through the body's origin (torqueArcs, below).
-const kMaxArrows = 64;
+const kMaxArrows = kMaxWrenchesShown;
 const kArrowMetresPerNewton = 0.01;
 let wrenches = [];
 let sceneDt = 0;
@@ -1417,7 +1383,7 @@ function frame(now) {
   // Drawn: rigid-view may send the next states (it keeps at most four unacknowledged), one for
   // each received since the last frame, applied or replaced.
   for (; statesToAck > 0; --statesToAck)
-    if (socket && socket.readyState === WebSocket.OPEN) socket.send('{"op":"ack"}');
+    if (socket && socket.readyState === WebSocket.OPEN) socket.send(kAckCommand);
   if (pendingStampMs !== null) {
     // Against rigidd's stamp, the wall clock now (1 ms steps); within the page, its own clocks.
     const now = performance.timeOrigin + performance.now(), k = latencyCount++ % latencies.length;
