@@ -22,6 +22,21 @@ export class DriftTable {
     }
   }
 
+  // A decoded state frame (protocol.js): a whole frame's drifts, or a pose frame's worst drifts and
+  // its watched bodies' own. slots[i]: state slot i's index in the scene's order (-1: none).
+  apply(state, slots) {
+    const n = state.n;
+    if (!state.poses) {
+      this.update(n, slots, state.energyDrift, state.momentumDrift);
+      return;
+    }
+    const indexOf = (slot) => (slot >= 0 && slot < n ? slots[slot] : -1);
+    const w = state.worst;
+    this.report({ energy: w.energy, energyAt: indexOf(w.energySlot), momentum: w.momentum,
+                  momentumAt: indexOf(w.momentumSlot) });
+    for (const r of state.watched) this.set(indexOf(r.slot), r.energy, r.momentum);
+  }
+
   // A pose frame (protocol.hpp): the worst drifts as rigid-view found them ({ energy, energyAt,
   // momentum, momentumAt }, indices in the scene's order), and the watched bodies' own (set).
   report(worst) { this.reported = worst; }

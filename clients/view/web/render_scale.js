@@ -14,8 +14,8 @@
 //   where the page is far too slow, down to `min`: a software renderer's frame costs per pixel,
 //   the pixels go as the scale squared, so the scale goes by sqrt(T / c), T = 1000 / fastFps ms
 //   the frame time wanted and c the frame's cost, its mean interval less half a refresh (paced
-//   frames end at a refresh: a frame of T + 1 ms takes two). 10^4 bodies at 5 frames/s: 0.30 in
-//   one decision instead of four (whose descent took ~12 s);
+//   frames end at a refresh: a frame of T + 1 ms takes two): a page far too slow gets there in
+//   one decision instead of descending step by step for seconds (bench/notes/view.md);
 // - after `raiseAfter` seconds in a row of at least `fastFps` frames (none missed) it raises it
 //   again by one step, to 1 at most: a probe, since a paced page shows no headroom;
 // - a probe that fails (the scale lowered within `probeWindow` seconds of the raise) doubles the

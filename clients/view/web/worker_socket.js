@@ -2,7 +2,7 @@
 // WebSocket on the page's main thread takes it in chunks between rendered frames: with software
 // rendering at a few frames a second that took seconds per state (bench/notes/view-bench.md). The
 // Worker receives whole messages on its own thread and hands each ArrayBuffer over without a copy.
-// WorkerSocket has the part of WebSocket's interface app.js uses (readyState, send, close,
+// WorkerSocket has the part of WebSocket's interface connection.js uses (readyState, send, close,
 // onopen, onclose, onmessage with event.data), and for a binary frame the worker's receipt by two
 // clocks, where the page splits its publish-to-frame latency (bench/view): event.receivedWall,
 // Date.now(), to compare with rigidd's stamp (this host's CLOCK_REALTIME, read when it happens), and
