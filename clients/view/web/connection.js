@@ -11,8 +11,9 @@ const kWatchEvery = (kWatchLifetime * 1000) / 3;  // ms
 const kKeptAnswers = 100;  // replies and errors kept for window.rigidView
 
 export class Connection {
-  // handlers: { open(), close(), message(msg) for each JSON message, after hello's is taken in,
-  // state() when a state frame comes }.
+  // handlers: { open(), close(), message(msg): each JSON message, once the connection has taken
+  // what it keeps (hello's mode, the last playback, replies and errors), state(): a state frame
+  // came }.
   constructor(handlers) {
     this.handlers = handlers;
     this.socket = null;
@@ -33,8 +34,8 @@ export class Connection {
     this.statesReceived = 0;  // state frames received, and those a newer one replaced unapplied
     this.statesSkipped = 0;
     this.nextId = 1;
-    this.watched = undefined;  // () => the body watched (its id), or null
-    setInterval(() => { if (this.watched && this.watched() !== null) this.watch(); }, kWatchEvery);
+    this.watched = () => null;  // the id of the body this page watches, or null (app.js sets it)
+    setInterval(() => { if (this.watched() !== null) this.watch(); }, kWatchEvery);
   }
 
   get open() {
@@ -112,7 +113,7 @@ export class Connection {
   // frames carry it for the bodies watched only), or for none.
   watch() {
     if (!this.open || this.mode === 'playback') return;
-    const id = this.watched ? this.watched() : null;
+    const id = this.watched();
     this.send(id !== null ? { op: 'watch', body: id } : { op: 'watch' });
   }
 }
