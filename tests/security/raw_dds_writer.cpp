@@ -4,10 +4,10 @@
 // identity directory, in a partition of its choice.
 //
 //   raw_dds_writer [--security DIR] [--partition P] [--source S] [--seq Q] [--count N]
-//                  [--force FX] [--ttl T] [--name-bytes B]
+//                  [--force FX] [--ttl T] [--name-bytes B] [--readers R]
 //
-// Exit: 0 written once a reader matched (then it lingers 0.5 s); 1 no reader matched in 5 s;
-// 2 bad arguments; 3 the participant or the writer was refused (security).
+// Exit: 0 written once R readers (default 1) matched (then it lingers 0.5 s); 1 they did not
+// match within 5 s; 2 bad arguments; 3 the participant or the writer was refused (security).
 #include <dds/dds.h>
 
 #include <chrono>
@@ -23,7 +23,7 @@
 int main(int argc, char** argv) {
   std::string security, partition, body = "zebracraft";
   long long source = 5, seq = 1;
-  int count = 1;
+  int count = 1, readers = 1;
   double force = 0.0, ttl = 0.0;
   std::size_t name_bytes = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
       ttl = std::atof(v.c_str());
     else if (k == "--name-bytes")
       name_bytes = std::strtoull(v.c_str(), nullptr, 10);
+    else if (k == "--readers")
+      readers = std::atoi(v.c_str());
     else {
       std::fprintf(stderr, "raw_dds_writer: unknown option %s\n", k.c_str());
       return 2;
@@ -94,7 +96,7 @@ int main(int argc, char** argv) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   dds_publication_matched_status_t matched{};
   while (dds_get_publication_matched_status(writer, &matched) == DDS_RETCODE_OK &&
-         matched.current_count == 0) {
+         matched.current_count < static_cast<std::uint32_t>(readers)) {
     if (std::chrono::steady_clock::now() > end) {
       dds_delete(participant);
       return 1;
