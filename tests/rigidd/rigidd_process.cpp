@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 extern char** environ;
@@ -49,9 +50,16 @@ RigiddProcess::RigiddProcess(const std::string& program, const std::vector<std::
     argv.push_back(a.data());
   argv.push_back(nullptr);
 
+  // `extra_env` replaces a variable of the same name (getenv would find the first of two).
+  const auto named_in_extra = [&extra_env](std::string_view entry) {
+    const std::string_view name = entry.substr(0, entry.find('='));
+    for (const std::string& x : extra_env)
+      if (std::string_view(x).substr(0, x.find('=')) == name) return true;
+    return false;
+  };
   std::vector<std::string> env_text;
   for (char** e = environ; *e != nullptr; ++e)
-    env_text.emplace_back(*e);
+    if (!named_in_extra(*e)) env_text.emplace_back(*e);
   env_text.insert(env_text.end(), extra_env.begin(), extra_env.end());
   std::vector<char*> envp;
   for (std::string& e : env_text)

@@ -17,7 +17,7 @@ namespace rigid::rigidd::testing {
 class RigiddProcess {
  public:
   // Starts RIGIDD_EXE with `args`; `extra_env` ("NAME=value") is added to this process's
-  // environment (which carries CYCLONEDDS_URI from ctest).
+  // environment (which carries CYCLONEDDS_URI from ctest), replacing a variable of that name.
   explicit RigiddProcess(const std::vector<std::string>& args,
                          const std::vector<std::string>& extra_env = {});
   // Starts `program` (a path) instead of rigidd.
