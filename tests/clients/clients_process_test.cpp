@@ -7,12 +7,14 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <random>
@@ -209,6 +211,45 @@ TEST_P(Rigidctl, NoServerIsAClearTimeoutWithExit3) {
       << r.err;
 }
 
+// No bus to talk on (unlike no server, exit 3): exit 1 and one line of rigidctl's saying what
+// failed. DDS: a Cyclone configuration naming an interface this host lacks; LCM: a URL no
+// provider opens.
+TEST_P(Rigidctl, NoBusIsExit1WithOneLineSayingWhy) {
+  const bool dds = GetParam() == Bus::kDds;
+  std::vector<std::string> args{
+      "bodies",   "--timeout",           "2", "--transport", bus_name(GetParam()),
+      "--prefix", unique_prefix("nobus")};
+  std::vector<std::string> env;
+  if (dds) {
+    env.push_back(
+        "CYCLONEDDS_URI=<CycloneDDS><Domain id=\"any\"><General><Interfaces>"
+        "<NetworkInterface name=\"rigid-no-such-if\"/></Interfaces></General></Domain>"
+        "</CycloneDDS>");
+  } else {
+    args.push_back("--lcm-url");
+    args.push_back("nobus://nowhere");
+  }
+  RigiddProcess ctl(RIGIDCTL_EXE, args, env);
+  const auto status = ctl.wait_exit(15s);
+  ASSERT_TRUE(status && WIFEXITED(*status)) << ctl.stderr_text();
+  EXPECT_EQ(WEXITSTATUS(*status), 1) << ctl.stderr_text();
+  // rigidctl's one line, last (the bus library may print its own reason before it).
+  const std::string err = ctl.stderr_text();
+  const std::size_t line = err.rfind('\n', err.size() >= 2 ? err.size() - 2 : 0);
+  const std::string last = err.substr(line == std::string::npos ? 0 : line + 1);
+  EXPECT_EQ(last.rfind(dds ? "rigidctl: DDS: cannot create participant"
+                           : "rigidctl: LCM: cannot open nobus://nowhere",
+                       0),
+            0u)
+      << err;
+  int own_lines = 0;
+  std::istringstream lines(err);
+  for (std::string l; std::getline(lines, l);)
+    own_lines += l.rfind("rigidctl: ", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(own_lines, 1) << err;
+  EXPECT_NE(err.find(dds ? "rigid-no-such-if" : "nobus"), std::string::npos) << err;
+}
+
 INSTANTIATE_TEST_SUITE_P(Bus, Rigidctl, ::testing::Values(Bus::kDds, Bus::kLcm), param_name);
 
 TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
@@ -284,6 +325,106 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
   EXPECT_NE(info.out.find("ends cleanly"), std::string::npos) << info.out;
   EXPECT_EQ(s.stop(), 0);
 }
+
+// rigid-record play republishes a recording at its recorded pace, scaled by --speed, judged on
+// the player's own stamps (each state's stamp_ns is the time it was republished: the player stands
+// in for rigidd), so that a stall of the test's client changes nothing. The recording alternates
+// gaps of 100 and 300 ms (after two of 300 ms that leave DDS time to match): played at --speed 2,
+// the median gap of each kind is within a quarter of 50 and 150 ms. That tells the recorded pace
+// from a constant one, from no pacing and from an ignored --speed; a median is what a few states
+// published late by a loaded host (and the ones after them, early to catch up) cannot move.
+class RecordPlay : public ::testing::TestWithParam<Bus> {};
+
+TEST_P(RecordPlay, RepublishesAtTheRecordedPaceTimesSpeed) {
+  TestDir dir;
+  const std::string file = dir.file("paced.rlog");
+  std::vector<std::int64_t> recorded_ns{0, 300'000'000, 600'000'000};
+  for (int i = 0; i < 24; ++i)
+    recorded_ns.push_back(recorded_ns.back() + (i % 2 == 0 ? 100'000'000 : 300'000'000));
+  {
+    records::RecordWriter w(file, false);
+    msgs::LogRecord r;
+    r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
+    r.mutable_header()->set_software_version(records::software_version());
+    rigid::SceneDescription scene;
+    scene.scene_name = "paced";
+    scene.dt = 0.001;
+    scene.publish_every = 10;
+    scene.ids = {0};
+    scene.names = {"puck"};
+    scene.masses = {1.0};
+    scene.inertia = {1, 1, 1, 0, 0, 0};
+    scene.shape_kinds = {rigid::ShapeKind::kNone};
+    scene.shape_dims = {0, 0, 0};
+    records::to_record(scene, 0, *r.mutable_header()->mutable_scene());
+    w.append(r);
+    for (std::size_t i = 0; i < recorded_ns.size(); ++i) {
+      rigid::StateFrame f;
+      f.tick = 10 * static_cast<std::int64_t>(i);
+      f.sim_time = 0.001 * static_cast<double>(f.tick);
+      f.resize(1);
+      f.position = {static_cast<double>(i), 0, 0};
+      f.orientation = {1, 0, 0, 0};
+      records::to_record(f, recorded_ns[i], *r.mutable_state());
+      w.append(r);
+    }
+    w.close();
+  }
+  const std::string prefix = unique_prefix("play");
+  BusClient client(GetParam(), prefix);
+  RigiddProcess player(
+      RIGID_RECORD_EXE,
+      {"play", file, "--speed", "2", "--transport", bus_name(GetParam()), "--prefix", prefix}, {});
+  const auto status = player.wait_exit(20s);
+  ASSERT_TRUE(status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0) << player.stderr_text();
+  EXPECT_NE(player.stderr_text().find("played " + file + ": " + std::to_string(recorded_ns.size()) +
+                                      " states"),
+            std::string::npos)
+      << player.stderr_text();
+  // What the player published, once each, in order, as recorded (DDS may lose the first states
+  // to discovery: none after the lead-in).
+  ASSERT_TRUE(client.wait(
+      [&] {
+        return !client.states_locked().empty() &&
+               client.states_locked().back().state.tick ==
+                   10 * static_cast<std::int64_t>(recorded_ns.size() - 1);
+      },
+      5s));
+  const std::vector<TimedState> seen = client.states();
+  std::vector<std::size_t> index;  // into recorded_ns
+  for (const TimedState& t : seen) {
+    const auto i = static_cast<std::size_t>(t.state.tick / 10);
+    ASSERT_EQ(t.state.tick % 10, 0);
+    ASSERT_LT(i, recorded_ns.size());
+    ASSERT_EQ(t.state.position[0], static_cast<double>(i)) << "tick " << t.state.tick;
+    if (!index.empty()) {
+      ASSERT_GT(i, index.back()) << "out of order or twice";
+    }
+    index.push_back(i);
+  }
+  ASSERT_GE(index.size(), recorded_ns.size() - 2);
+  std::vector<double> short_ratios, long_ratios;  // played gap / (recorded gap / speed)
+  for (std::size_t k = 1; k < index.size(); ++k) {
+    const std::size_t i = index[k - 1], j = index[k];
+    if (j != i + 1 || i < 2) continue;
+    const double expected = static_cast<double>(recorded_ns[j] - recorded_ns[i]) / 2.0;
+    const double played = static_cast<double>(seen[k].state.stamp_ns - seen[k - 1].state.stamp_ns);
+    (recorded_ns[j] - recorded_ns[i] < 200'000'000 ? short_ratios : long_ratios)
+        .push_back(played / expected);
+  }
+  ASSERT_GE(short_ratios.size(), 10u);
+  ASSERT_GE(long_ratios.size(), 10u);
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  EXPECT_GT(median(short_ratios), 0.75);
+  EXPECT_LT(median(short_ratios), 1.25);
+  EXPECT_GT(median(long_ratios), 0.75);
+  EXPECT_LT(median(long_ratios), 1.25);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bus, RecordPlay, ::testing::Values(Bus::kDds, Bus::kLcm), param_name);
 
 TEST(RigidRecord, NoServerMeansExit3AndNoFile) {
   TestDir dir;
@@ -505,6 +646,35 @@ TEST_P(Attitude, TheControllerSettlesWithinOneDegreeFromNinetyAndHolds) {
     ++checked;
   }
   EXPECT_GT(checked, 100);
+  EXPECT_EQ(s.stop(), 0);
+}
+
+// Thrust that rigidd keeps refusing ends rigid-attitude's run with exit 1, each refusal told:
+// the attitude scene with a max_ttl below the controller's (3 periods: 30 ms), so that every
+// thrust command is refused whatever its force. --duration is far longer than the wait: the exit
+// comes from the refusals.
+TEST_P(Attitude, ExitsWithFailureWhenItsThrustStaysRefused) {
+  TestDir dir;
+  std::string scene = sim::testing::read_file(kAttitude);
+  const std::string limits = "limits { max_force: 100 max_torque: 100 max_ttl: 1 }";
+  ASSERT_NE(scene.find(limits), std::string::npos) << "config/scenes/attitude.pbtxt changed";
+  scene.replace(scene.find(limits), limits.size(),
+                "limits { max_force: 100 max_torque: 100 max_ttl: 0.01 }");
+  const std::string path = dir.file("refusing.pbtxt");
+  std::ofstream(path) << scene;
+  Session s(GetParam(), path);
+  ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
+  RigiddProcess controller(RIGID_ATTITUDE_EXE, concat({"--duration", "60"}, s.bus_args()), {});
+  const auto status = controller.wait_exit(30s);
+  ASSERT_TRUE(status) << "still running 30 s into a 60 s run\n" << controller.stderr_text();
+  ASSERT_TRUE(WIFEXITED(*status)) << controller.stderr_text();
+  EXPECT_EQ(WEXITSTATUS(*status), 1) << controller.stderr_text();
+  const std::string err = controller.stderr_text();
+  EXPECT_NE(err.find("rigid-attitude: rigidd refused a thrust command: "), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("rigid-attitude: its commands have been refused for 2 s: stopping"),
+            std::string::npos)
+      << err;
   EXPECT_EQ(s.stop(), 0);
 }
 
