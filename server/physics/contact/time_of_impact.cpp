@@ -1,0 +1,173 @@
+#include "physics/contact/time_of_impact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rigid::physics::contact {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The smallest d > 0 with g + r d - c d^2 / 2 = 0 (c >= 0): how far a function with value g, rate
+// r and |second derivative| <= c is sure to stay positive. Written without cancellation.
+double safe_step(double g, double r, double c) {
+  if (g <= 0.0) {
+    // Touching: it stays apart only while it moves away.
+    if (r <= 0.0) return 0.0;
+    return c > 0.0 ? 2.0 * r / c : kInf;
+  }
+  if (c == 0.0) return r < 0.0 ? g / -r : kInf;
+  const double root = std::sqrt(r * r + 2.0 * c * g);
+  return r < 0.0 ? 2.0 * g / (root - r) : (r + root) / c;
+}
+
+// One smooth piece of a gap: its value, rate and bound on its second derivative.
+struct Piece {
+  double g = kInf, r = 0.0, c = 0.0;
+};
+
+// The lower envelope of the pieces: the gap, the smallest safe step, and the rate of the lowest
+// piece (the touching one).
+struct Envelope {
+  double gap = kInf;
+  double rate = 0.0;
+  double step = kInf;
+  void add(const Piece& p) {
+    if (p.g < gap) gap = p.g, rate = p.r;
+    step = std::min(step, safe_step(p.g, p.r, p.c));
+  }
+};
+
+// A material point c_B of the body (from the centre of mass, in B) with rounding `radius`, against
+// the plane: its gap, rate, and the bound on its second derivative (|a + alpha x r + w x w x r|).
+Piece plane_point(const MotionSample& m, const Trajectory& t, const StaticPart& plane,
+                  const Vec3& c_B, double radius) {
+  const Vec3 r_W = m.pose.q_WB * c_B;
+  const Vec3& n = plane.n_W;
+  Piece p;
+  p.g = n.dot(m.pose.p_WBo + r_W) - radius - plane.offset;
+  p.r = n.dot(m.v_W + m.w_W.cross(r_W));
+  p.c = t.a_max + c_B.norm() * (t.alpha_max + t.w_max * t.w_max);
+  return p;
+}
+
+Envelope plane_envelope(const Convex& body, const MotionSample& m, const Trajectory& t,
+                        const StaticPart& plane) {
+  Envelope e;
+  switch (body.kind) {
+    case Convex::Kind::kPoint:
+    case Convex::Kind::kSphere:
+      e.add(plane_point(m, t, plane, Vec3::Zero(), body.radius));
+      break;
+    case Convex::Kind::kBox:
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 c((k & 1 ? -1.0 : 1.0) * body.half.x(), (k & 2 ? -1.0 : 1.0) * body.half.y(),
+                     (k & 4 ? -1.0 : 1.0) * body.half.z());
+        e.add(plane_point(m, t, plane, c, 0.0));
+      }
+      break;
+    case Convex::Kind::kCapsule:
+      for (const double z : {body.half.z(), -body.half.z()})
+        e.add(plane_point(m, t, plane, Vec3(0.0, 0.0, z), body.radius));
+      break;
+    case Convex::Kind::kCylinder: {
+      // Each end's rim: its centre as a material point, less r |u_xy| (u: the plane's inward
+      // normal in B), whose rate is at most r |w|: a lower bound of the rim's gap that is exact at
+      // the sample and whose rate is pessimistic by at most r |w|.
+      const Vec3 u_B = m.pose.q_WB.conjugate() * (-plane.n_W);
+      const double r = body.half.x();
+      const double lift = r * std::hypot(u_B.x(), u_B.y());
+      for (const double z : {body.half.z(), -body.half.z()}) {
+        Piece p = plane_point(m, t, plane, Vec3(0.0, 0.0, z), 0.0);
+        p.g -= lift;
+        p.r -= r * t.w_max;
+        e.add(p);
+      }
+      break;
+    }
+    case Convex::Kind::kEllipsoid: {
+      // Smooth and strictly convex: the support point slides over the surface, and the gap's
+      // rate is that of the material point there (the envelope theorem). Its second derivative:
+      // the material point's, plus h's curvature, |A^2 / |A u|| <= a_max^2 / a_min, times |u'|^2.
+      const Gap g = plane_gap(body, m.pose, plane);
+      const Vec3 r_W = g.p_W - m.pose.p_WBo;
+      Piece p;
+      p.g = g.distance;
+      p.r = plane.n_W.dot(m.v_W + m.w_W.cross(r_W));
+      const double a_big = body.half.maxCoeff(), a_small = body.half.minCoeff();
+      p.c = t.a_max + a_big * (t.alpha_max + t.w_max * t.w_max) +
+            a_big * a_big / a_small * t.w_max * t.w_max;
+      e.add(p);
+      break;
+    }
+  }
+  return e;
+}
+
+Envelope shape_envelope(const Convex& body, const MotionSample& m, const Trajectory& t,
+                        const StaticPart& part) {
+  const Gap g = shape_gap(body, m.pose, part);
+  const Vec3 r_W = g.p_W - m.pose.p_WBo;
+  Piece p;
+  p.g = g.distance;
+  p.r = g.n_W.dot(m.v_W + m.w_W.cross(r_W));
+  // The distance to a convex set bends by at most |v|^2 / d (its level sets are at least d round).
+  const double rho = body.bounding_radius();
+  const double v = m.v_W.norm() + t.a_max * t.length + t.w_max * rho;
+  p.c = t.a_max + rho * (t.alpha_max + t.w_max * t.w_max) +
+        v * v / std::max(g.distance, touch_tolerance(m.pose.p_WBo.norm()));
+  Envelope e;
+  e.add(p);
+  return e;
+}
+
+}  // namespace
+
+Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& trajectory,
+                  double s_begin) {
+  constexpr int kMaxIterations = 200;
+  Touch out;
+  double s = s_begin;
+  // The last sample found apart: where the touch is placed when round-off makes the final one
+  // cross into the part by an ulp, so that a touch is never reported inside.
+  double s_apart = -1.0;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    out.iterations = it + 1;
+    const MotionSample m = trajectory.at(s);
+    const Envelope e = part.kind == StaticPart::Kind::kPlane
+                           ? plane_envelope(body, m, trajectory, part)
+                           : shape_envelope(body, m, trajectory, part);
+    const double tol = touch_tolerance(m.pose.p_WBo.norm());
+    // Touching: closing in with the gap within round-off of the position and the next safe step
+    // no longer moving s (the search has reached the root from outside), or stalled on a grazing
+    // touch, where the rate vanishes with the gap and the steps shrink to nothing.
+    const bool no_progress = s + e.step == s || e.step <= 1e-15 * (1.0 + s);
+    const bool closing = e.gap <= tol && e.rate < 0.0 && (no_progress || e.gap <= 1e-3 * tol);
+    const bool stalled = no_progress && e.gap <= 1e3 * tol;
+    if (closing || stalled) {
+      out.found = true;
+      out.s = s;
+      out.at = m;
+      out.gap = gap(body, m.pose, part);
+      // Round-off may leave the last sample an ulp inside: back off towards the last sample
+      // found apart (at most to it) until it is not.
+      for (int k = 0; k < 8 && out.gap.distance < 0.0 && s_apart >= 0.0; ++k) {
+        const double back = std::max(2.0 * -out.gap.distance / std::max(-e.rate, 1e-300),
+                                     4.0 * std::numeric_limits<double>::epsilon() * out.s);
+        out.s = std::max(s_apart, out.s - back);
+        out.at = trajectory.at(out.s);
+        out.gap = gap(body, out.at.pose, part);
+      }
+      return out;
+    }
+    if (e.gap > 0.0) s_apart = s;
+    if (s + e.step >= trajectory.length) return out;  // stays apart to the end
+    s += e.step;
+  }
+  // Out of iterations while still apart: slow approach by a grazing body; it is not inside.
+  return out;
+}
+
+}  // namespace rigid::physics::contact
