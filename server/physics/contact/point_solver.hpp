@@ -10,12 +10,19 @@
 // The laws, per point:
 //   normal:   n_i . u_i >= target_i, P_n >= 0, and P_n > 0 only where n_i . u_i == target_i
 //             (an impact: target = -e times the approach speed; a force: target = 0);
-//   friction: sticking, the tangential u_i is 0 with |P_t| <= mu P_n; or sliding, P_t = -mu P_n s_i
-//             along the given slip direction s_i.
-// Solved by projected block Gauss-Seidel iterated to round-off (Moreau, Jean; the standard method
-// for small contact problems, exact here because it runs to convergence, not to a budget).
+//   friction: sliding, P_t = -mu P_n s_i along the point's slip direction s_i; sticking, no
+//             tangential motion with |P_t| <= mu P_n.
+// Points on one face of a part (a patch: the same `patch` and normal) stick together: their
+// friction is one force at the patch's centre of pressure and one moment about its normal (as
+// Box2D's and Jolt's manifolds take it), bounded by mu N and by mu N times the points' mean
+// distance from that centre. Friction per point would leave the split between redundant points
+// free, and an iterative solve can wind it into opposing pairs that use up the friction a face
+// has (a block on an incline then slides below its friction angle).
+// Solved by projected block Gauss-Seidel iterated until every law holds to round-off (Moreau,
+// Jean; exact here because it runs to convergence, not to a budget).
 #pragma once
 
+#include <algorithm>
 #include <array>
 
 #include "physics/math.hpp"
@@ -43,18 +50,24 @@ struct PointRow {
   bool sliding = false;
   Vec3 slip_W = Vec3::Zero();  // unit tangential slip direction when sliding
   Vec3 u_W = Vec3::Zero();     // the point's velocity (or acceleration) before the solve
+  int patch = -1;              // rows with the same patch >= 0 and normal stick as one face
 };
 
 inline constexpr int kMaxPoints = 16;
 
 struct PointSolution {
-  std::array<Vec3, kMaxPoints> P{};           // per point
+  std::array<Vec3, kMaxPoints> P{};  // per point (a patch's friction shared by normal force)
+  // Per point: its sticking friction reached its limit (it would slip).
+  std::array<bool, kMaxPoints> saturated{};
   Vec3 dv = Vec3::Zero(), dw = Vec3::Zero();  // the body's change of v and w
+  Vec3 F = Vec3::Zero(), tau = Vec3::Zero();  // the total and its moment about the centre of mass
   int iterations = 0;
   bool converged = false;
 };
 
-// Solves the laws for rows[0 .. n) of one body (n <= kMaxPoints).
-PointSolution solve_points(const Response& body, const PointRow* rows, int n);
+// Solves the laws for rows[0 .. n) of one body (n <= kMaxPoints). w0: the body's angular velocity
+// (or acceleration) before the solve, which the points' u_W were made from: a patch's twist.
+PointSolution solve_points(const Response& body, const PointRow* rows, int n,
+                           const Vec3& w0 = Vec3::Zero());
 
 }  // namespace rigid::physics::contact

@@ -14,8 +14,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // r and |second derivative| <= c is sure to stay positive. Written without cancellation.
 double safe_step(double g, double r, double c) {
   if (g <= 0.0) {
-    // Touching: it stays apart only while it moves away.
-    if (r <= 0.0) return 0.0;
+    // Touching: it stays apart only while it moves away (or, with nothing to bend its path,
+    // while it does not move closer).
+    if (r < 0.0 || (r == 0.0 && c > 0.0)) return 0.0;
     return c > 0.0 ? 2.0 * r / c : kInf;
   }
   if (c == 0.0) return r < 0.0 ? g / -r : kInf;
@@ -34,7 +35,10 @@ struct Envelope {
   double gap = kInf;
   double rate = 0.0;
   double step = kInf;
+  std::uint32_t ignore = 0;
+  int next = 0;  // the index of the next piece added
   void add(const Piece& p) {
+    if ((ignore >> next++) & 1u) return;
     if (p.g < gap) gap = p.g, rate = p.r;
     step = std::min(step, safe_step(p.g, p.r, p.c));
   }
@@ -54,8 +58,9 @@ Piece plane_point(const MotionSample& m, const Trajectory& t, const StaticPart& 
 }
 
 Envelope plane_envelope(const Convex& body, const MotionSample& m, const Trajectory& t,
-                        const StaticPart& plane) {
+                        const StaticPart& plane, std::uint32_t ignore) {
   Envelope e;
+  e.ignore = ignore;
   switch (body.kind) {
     case Convex::Kind::kPoint:
     case Convex::Kind::kSphere:
@@ -125,8 +130,35 @@ Envelope shape_envelope(const Convex& body, const MotionSample& m, const Traject
 
 }  // namespace
 
+int plane_pieces(const Convex& body) {
+  switch (body.kind) {
+    case Convex::Kind::kBox:
+      return 8;
+    case Convex::Kind::kCapsule:
+    case Convex::Kind::kCylinder:
+      return 2;
+    default:
+      return 1;
+  }
+}
+
+std::uint32_t resting_pieces(const Convex& body, const MotionSample& m, const StaticPart& plane,
+                             double tol, double max_rate) {
+  // The pieces' gaps and rates in state m (the bounds play no part).
+  struct Still : Trajectory {
+    MotionSample at(double) const override { return MotionSample{}; }
+  } still;
+  std::uint32_t mask = 0;
+  const int n = plane_pieces(body);
+  for (int k = 0; k < n; ++k) {
+    const Envelope e = plane_envelope(body, m, still, plane, ~(1u << k));
+    if (e.gap <= tol && e.rate <= max_rate) mask |= 1u << k;
+  }
+  return mask;
+}
+
 Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& trajectory,
-                  double s_begin) {
+                  double s_begin, std::uint32_t ignore) {
   constexpr int kMaxIterations = 200;
   Touch out;
   double s = s_begin;
@@ -137,7 +169,7 @@ Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& 
     out.iterations = it + 1;
     const MotionSample m = trajectory.at(s);
     const Envelope e = part.kind == StaticPart::Kind::kPlane
-                           ? plane_envelope(body, m, trajectory, part)
+                           ? plane_envelope(body, m, trajectory, part, ignore)
                            : shape_envelope(body, m, trajectory, part);
     const double tol = touch_tolerance(m.pose.p_WBo.norm());
     // Touching: closing in with the gap within round-off of the position and the next safe step
@@ -163,7 +195,7 @@ Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& 
       return out;
     }
     if (e.gap > 0.0) s_apart = s;
-    if (s + e.step >= trajectory.length) return out;  // stays apart to the end
+    if (e.gap == kInf || s + e.step >= trajectory.length) return out;  // apart to the end
     s += e.step;
   }
   // Out of iterations while still apart: slow approach by a grazing body; it is not inside.

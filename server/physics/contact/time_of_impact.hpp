@@ -13,6 +13,8 @@
 // part and the time is exact to round-off (against a plane, where the gap is exact).
 #pragma once
 
+#include <cstdint>
+
 #include "physics/contact/gap.hpp"
 #include "physics/contact/static_part.hpp"
 #include "physics/contact/support.hpp"
@@ -48,9 +50,18 @@ struct Touch {
 // The first s in [s_begin, trajectory.length] at which the body's gap to the part closes
 // (to within round-off of its position), or found == false when it stays open. A body that starts
 // touching the part and moving away from it (an impact just resolved) is found again only once it
-// has left and comes back.
+// has left and comes back. `ignore`: pieces of the gap against a plane left out (bit k: piece k of
+// plane_pieces), the ones a body rests on, so that only its other features are watched.
 Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& trajectory,
-                  double s_begin);
+                  double s_begin, std::uint32_t ignore = 0);
+
+// The pieces of a body's gap to a plane (the smooth functions whose minimum it is: a box's 8
+// corners, a capsule's or a cylinder's 2 ends, a sphere's, a point's or an ellipsoid's one), and
+// which of them rest on the plane in state m: within `tol` of it and moving away from it no faster
+// than max_rate (bit k for piece k). A piece leaving faster is watched, to be found on its return.
+int plane_pieces(const Convex& body);
+std::uint32_t resting_pieces(const Convex& body, const MotionSample& m, const StaticPart& plane,
+                             double tol, double max_rate);
 
 // The gap below which a body counts as touching: round-off in a position of size `scale` (m).
 inline double touch_tolerance(double scale) {
