@@ -11,15 +11,26 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "physics/inertia.hpp"
 #include "physics/math.hpp"
 
 namespace rigid::physics {
 
 // The frame a force or torque vector is expressed in. A BODY-frame force turns with the body.
 enum class Frame { kWorld, kBody };
+
+// What a surface does in contact: the coefficient of restitution e in [0, 1] (the normal speed
+// after an impact over the speed before: Newton's law) and the Coulomb friction coefficient
+// mu >= 0 (the tangential force at most mu times the normal force). A pair takes the larger e and
+// the geometric mean of mu (contact/static_part.hpp: combine).
+struct Surface {
+  double restitution = 0.0;
+  double friction = 0.5;
+};
 
 struct BodySpec {
   std::string name;
@@ -47,6 +58,28 @@ struct BodySpec {
   // motion is no longer that of a free body).
   std::array<bool, 3> freeze_translation{false, false, false};
   std::array<bool, 3> freeze_rotation{false, false, false};
+
+  // Its collision shape, centred on the centre of mass with its axes along B; none: it collides as
+  // a point. Only a world with static geometry looks at it.
+  std::optional<Shape> shape;
+  Surface surface;
+};
+
+// Static geometry: it never moves and has no mass.
+// An infinite plane whose solid side is the half-space n_W . x <= offset (n_W unit).
+struct PlaneSpec {
+  std::string name;
+  Vec3 n_W = Vec3::UnitZ();
+  double offset = 0.0;
+  Surface surface;
+};
+// A placed shape (box, sphere, capsule, cylinder): its centre at p_WS, its axes turned by q_WS.
+struct StaticSpec {
+  std::string name;
+  Shape shape;
+  Vec3 p_WS = Vec3::Zero();
+  Quat q_WS = Quat::Identity();
+  Surface surface;
 };
 
 // A constant load on one body: a force applied at a point plus an optional pure torque.
@@ -68,6 +101,9 @@ struct WorldSpec {
   int threads = 1;
   std::vector<BodySpec> bodies;
   std::vector<LoadSpec> loads;
+  // Static parts: the planes, then the shapes (a part's index counts planes first).
+  std::vector<PlaneSpec> planes;
+  std::vector<StaticSpec> statics;
 };
 
 }  // namespace rigid::physics

@@ -122,6 +122,7 @@ class Loader {
     load_world();
     load_bodies();
     load_forces();
+    load_statics();
     check_physics();
     return std::move(scene_);
   }
@@ -137,12 +138,18 @@ class Loader {
   TextNode world_node() const { return root_.child("world"); }
   TextNode body_node(int i) const { return root_.child("body", i); }
   TextNode force_node(int i) const { return root_.child("force", i); }
+  TextNode plane_node(int i) const { return root_.child("plane", i); }
+  TextNode static_node(int i) const { return root_.child("static", i); }
 
   std::string body_label(int i) const {
     const std::string& name = msg_.body(i).name();
     return name.empty() ? "body #" + std::to_string(i + 1) : "body '" + printable(name) + "'";
   }
   std::string force_label(int i) const { return "force #" + std::to_string(i + 1); }
+  std::string part_label(const char* kind, const std::string& name, int i) const {
+    return name.empty() ? std::string(kind) + " #" + std::to_string(i + 1)
+                        : std::string(kind) + " '" + printable(name) + "'";
+  }
 
   // Every double anywhere in the scene must be finite (the text format accepts inf and nan).
   void check_all_finite() {
@@ -152,6 +159,101 @@ class Loader {
     }
     for (int i = 0; i < msg_.force_size(); ++i) {
       check_finite(msg_.force(i), force_node(i), force_label(i), "");
+    }
+    for (int i = 0; i < msg_.plane_size(); ++i) {
+      check_finite(msg_.plane(i), plane_node(i), part_label("plane", msg_.plane(i).name(), i), "");
+    }
+    for (int i = 0; i < msg_.static__size(); ++i) {
+      check_finite(msg_.static_(i), static_node(i), part_label("static", msg_.static_(i).name(), i),
+                   "");
+    }
+  }
+
+  // A material's values over `base` (the world's, for a body or a part); each given value checked.
+  physics::Surface load_material(const msgs::Material& m, const TextNode& node,
+                                 const std::string& label, physics::Surface base) {
+    if (m.has_restitution()) {
+      if (!(m.restitution() >= 0.0 && m.restitution() <= 1.0)) {
+        fail(node.at("restitution"),
+             label + ": material.restitution must be in [0, 1], got " + num(m.restitution()));
+      }
+      base.restitution = m.restitution();
+    }
+    if (m.has_friction()) {
+      if (!(m.friction() >= 0.0)) {
+        fail(node.at("friction"),
+             label + ": material.friction must be >= 0, got " + num(m.friction()));
+      }
+      base.friction = m.friction();
+    }
+    return base;
+  }
+
+  // A static part's name: like a body's, and unique among the parts and the bodies (it names a
+  // frame beside theirs on the buses).
+  void check_part_name(const std::string& name, const TextNode& node, const std::string& label) {
+    if (name.empty()) fail(node.at("name"), label + ": name must not be empty");
+    if (name.size() > kMaxBodyNameLength) {
+      fail(node.at("name"), label + ": name is " + std::to_string(name.size()) +
+                                " characters long; at most " + std::to_string(kMaxBodyNameLength));
+    }
+    if (!std::all_of(name.begin(), name.end(), valid_name_char)) {
+      fail(node.at("name"), label + ": name may contain only letters, digits and _ . / -, got '" +
+                                printable(name) + "'");
+    }
+    if (const auto b = body_index_.find(name); b != body_index_.end()) {
+      fail(node.at("name"), label + ": name is already a body's (defined at " +
+                                pos_text(body_node(b->second).at("name")) + ")");
+    }
+    const auto [it, inserted] = part_names_.emplace(name, node.at("name"));
+    if (!inserted) {
+      fail(node.at("name"), "duplicate static part name '" + name + "' (first defined at " +
+                                pos_text(it->second) + ")");
+    }
+  }
+
+  void load_statics() {
+    const physics::Surface world = scene_.world_surface;
+    for (int i = 0; i < msg_.plane_size(); ++i) {
+      const msgs::Plane& p = msg_.plane(i);
+      const TextNode node = plane_node(i);
+      const std::string label = part_label("plane", p.name(), i);
+      check_part_name(p.name(), node, label);
+      physics::PlaneSpec s;
+      s.name = p.name();
+      const Vec3 n = vec(p.normal());
+      const double len = n.stableNorm();
+      if (!(len > 0.0) || !std::isfinite(len)) {
+        fail(p.has_normal() ? node.at("normal") : node.pos(),
+             label + ": normal (" + num(n.x()) + ", " + num(n.y()) + ", " + num(n.z()) +
+                 ") must be a non-zero vector");
+      }
+      if (std::abs(len - 1.0) > 1e-9) {
+        warn(node.at("normal"), label + ": normal has length " + num(len) +
+                                    "; normalised (offset is along the unit normal)");
+      }
+      s.n_W = n / len;
+      s.offset = p.offset();
+      s.surface = load_material(p.material(), node.child("material"), label, world);
+      scene_.world.planes.push_back(s);
+    }
+    for (int i = 0; i < msg_.static__size(); ++i) {
+      const msgs::Static& p = msg_.static_(i);
+      const TextNode node = static_node(i);
+      const std::string label = part_label("static", p.name(), i);
+      check_part_name(p.name(), node, label);
+      physics::StaticSpec s;
+      s.name = p.name();
+      if (!p.has_shape()) fail(node.pos(), label + ": needs a shape");
+      s.shape = load_shape(p.shape(), node.child("shape"), label);
+      if (s.shape.kind == physics::ShapeKind::kEllipsoid) {
+        fail(node.child("shape").at("ellipsoid"),
+             label + ": a static shape is a box, sphere, capsule or cylinder");
+      }
+      if (p.has_position()) s.p_WS = vec(p.position());
+      if (p.has_orientation()) s.q_WS = load_orientation(p.orientation(), node, label);
+      s.surface = load_material(p.material(), node.child("material"), label, world);
+      scene_.world.statics.push_back(s);
     }
   }
 
@@ -203,6 +305,8 @@ class Loader {
       scene_.publish_every = w.publish_every();
     }
     scene_.world.dt = 1.0 / (scene_.rate_hz * scene_.substeps);
+    scene_.world_surface =
+        load_material(w.material(), node.child("material"), "world", physics::Surface{});
     if (w.has_gravity()) scene_.world.g_W = vec(w.gravity());
     if (!w.integrator().empty() && physics::find_integrator(w.integrator()) == nullptr) {
       std::string names;
@@ -269,11 +373,7 @@ class Loader {
                                   pos_text(body_node(it->second).at("name")) + ")");
       }
       scene_.world.bodies.push_back(load_body(i));
-      const msgs::Body& b = msg_.body(i);
-      scene_.shapes.push_back(
-          b.has_shape()
-              ? std::optional(load_shape(b.shape(), body_node(i).child("shape"), body_label(i)))
-              : std::nullopt);
+      scene_.shapes.push_back(scene_.world.bodies.back().shape);
     }
     if (msg_.body_size() == 0) warn(TextPos{1, 1}, "the scene has no bodies");
   }
@@ -339,6 +439,8 @@ class Loader {
     s.kinematic = b.kinematic();
     s.freeze_translation = axes(b.freeze_translation());
     s.freeze_rotation = axes(b.freeze_rotation());
+    s.shape = shape;
+    s.surface = load_material(b.material(), node.child("material"), label, scene_.world_surface);
     return s;
   }
 
@@ -505,7 +607,8 @@ class Loader {
   const msgs::Scene& msg_;
   TextNode root_;
   Scene scene_;
-  std::map<std::string, int, std::less<>> body_index_;  // name -> body index (load_bodies)
+  std::map<std::string, int, std::less<>> body_index_;      // name -> body index (load_bodies)
+  std::map<std::string, TextPos, std::less<>> part_names_;  // static parts' names (load_statics)
 };
 
 // The text into msg, with the parser's warnings in `errors` and, unless `tree` is null, where

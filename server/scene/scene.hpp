@@ -40,6 +40,8 @@ struct Scene {
   // (rigidd) uses that only when the scene is silent.
   bool threads_given = false;
   Limits limits;
+  // The material of bodies and parts that give none (world.material).
+  physics::Surface world_surface;
   // One line each, "FILE:LINE:COL: warning: ...", for things the loader fixed or that look
   // unintended.
   std::vector<std::string> warnings;

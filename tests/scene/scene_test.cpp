@@ -46,6 +46,83 @@ Scene parse(std::string_view text) {
   return parse_scene(text, "test.pbtxt");
 }
 
+// ---- static geometry and materials --------------------------------------------------------------
+
+TEST(SceneStatic, PlanesStaticsAndMaterialsLoadWithTheWorldsDefaults) {
+  const Scene s = parse(R"(
+world { material { restitution: 0.25 friction: 0.8 } }
+body { name: "ball" mass: 1 shape { sphere { radius: 0.1 } } material { restitution: 0.9 } }
+body { name: "dot" mass: 1 }
+plane { name: "ground" normal { z: 2 } offset: 0.5 }
+plane { name: "wall" normal { x: -1 } offset: 3 material { friction: 0 } }
+static { name: "ramp" shape { box { x: 2 y: 1 z: 0.1 } } position { x: 1 z: 0.2 }
+         orientation { w: 0.9238795325112867 y: 0.3826834323650898 } }
+)");
+  ASSERT_EQ(s.world.planes.size(), 2u);
+  ASSERT_EQ(s.world.statics.size(), 1u);
+  EXPECT_EQ(s.world.planes[0].name, "ground");
+  EXPECT_EQ(s.world.planes[0].n_W, Vec3(0, 0, 1));
+  EXPECT_EQ(s.world.planes[0].offset, 0.5);
+  EXPECT_EQ(s.world.planes[0].surface.restitution, 0.25);
+  EXPECT_EQ(s.world.planes[1].surface.friction, 0.0);
+  EXPECT_EQ(s.world.planes[1].surface.restitution, 0.25);
+  EXPECT_EQ(s.world.statics[0].shape.kind, physics::ShapeKind::kBox);
+  EXPECT_EQ(s.world.statics[0].p_WS, Vec3(1, 0, 0.2));
+  EXPECT_NEAR(s.world.statics[0].q_WS.angularDistance(
+                  physics::Quat(Eigen::AngleAxisd(kPi / 4, Vec3::UnitY()))),
+              0.0, 1e-12);
+  EXPECT_EQ(s.world.statics[0].surface.friction, 0.8);
+  // A body's material over the world's; its shape is its collision shape, none a point.
+  EXPECT_EQ(s.world.bodies[0].surface.restitution, 0.9);
+  EXPECT_EQ(s.world.bodies[0].surface.friction, 0.8);
+  ASSERT_TRUE(s.world.bodies[0].shape.has_value());
+  EXPECT_EQ(s.world.bodies[0].shape->kind, physics::ShapeKind::kSphere);
+  EXPECT_FALSE(s.world.bodies[1].shape.has_value());
+}
+
+TEST(SceneStatic, WithoutAMaterialTheDefaultsAreInelasticAndHalfFriction) {
+  const Scene s = parse("body { name: \"b\" mass: 1 }\nplane { name: \"g\" normal { z: 1 } }\n");
+  EXPECT_EQ(s.world.planes[0].surface.restitution, 0.0);
+  EXPECT_EQ(s.world.planes[0].surface.friction, 0.5);
+  EXPECT_EQ(s.world.bodies[0].surface.restitution, 0.0);
+}
+
+TEST(SceneErrors, MaterialValuesOutsideTheirRanges) {
+  expect_error("world {\n  material { restitution: 1.5 }\n}\n", 2, 14,
+               {"world", "material.restitution", "[0, 1]", "1.5"});
+  expect_error("body { name: \"b\" mass: 1\n  material { friction: -0.1 } }\n", 2, 14,
+               {"body 'b'", "material.friction", ">= 0", "-0.1"});
+  expect_error("plane { name: \"g\" normal { z: 1 }\n material { restitution: -1 } }\n", 2, 13,
+               {"plane 'g'", "restitution", "-1"});
+}
+
+TEST(SceneErrors, StaticParts) {
+  expect_error("plane { name: \"g\"\n  normal { x: 0 } }\n", 2, 3,
+               {"plane 'g'", "normal", "non-zero"});
+  expect_error("plane { name: \"g\" }\n", 1, 1, {"plane 'g'", "normal", "non-zero"});
+  expect_error("plane { normal { z: 1 } }\n", 1, 1, {"plane #1", "name must not be empty"});
+  expect_error(
+      "plane { name: \"g\" normal { z: 1 } }\nstatic { name: \"g\" shape { sphere { radius: 1 } } "
+      "}\n",
+      2, 10, {"duplicate static part name 'g'", "1:9"});
+  expect_error("body { name: \"b\" mass: 1 }\nplane { name: \"b\" normal { z: 1 } }\n", 2, 9,
+               {"plane 'b'", "already a body's", "1:8"});
+  expect_error("static { name: \"s\" }\n", 1, 1, {"static 's'", "needs a shape"});
+  expect_error("static { name: \"s\" shape { box { x: 1 y: 0 z: 1 } } }\n", 1, 39,
+               {"static 's'", "shape.box.y", "> 0"});
+  expect_error("static { name: \"s\" shape { ellipsoid { x: 1 y: 1 z: 1 } } }\n", 1, 28,
+               {"static 's'", "box, sphere, capsule or cylinder"});
+  expect_error("plane { name: \"g\" normal { z: inf } }\n", 1, 28,
+               {"plane 'g'", "normal.z", "finite"});
+}
+
+TEST(SceneWarnings, NonUnitPlaneNormalIsNormalised) {
+  const Scene s = parse("plane { name: \"g\" normal { z: 3 } offset: 1 }\n");
+  EXPECT_EQ(s.world.planes[0].n_W, Vec3(0, 0, 1));
+  ASSERT_FALSE(s.warnings.empty());
+  EXPECT_NE(s.warnings.back().find("normalised"), std::string::npos) << s.warnings.back();
+}
+
 // ---- parser errors ------------------------------------------------------------------------------
 // The text-format parser reports a problem at the token where it noticed it: the ':' or '{' right
 // after a bad field name, or the token after a bad value.

@@ -2,20 +2,16 @@
 // move and have no mass, each with its material.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "physics/contact/support.hpp"
 #include "physics/math.hpp"
+#include "physics/spec.hpp"
 
 namespace rigid::physics::contact {
 
-// What two surfaces in contact do, per pair: the coefficient of restitution e (the ratio of the
-// normal separation speed to the approach speed at an impact, Newton's law) and the Coulomb
-// friction coefficient mu (tangential force at most mu times the normal force).
-struct Surface {
-  double restitution = 0.0;
-  double friction = 0.5;
-};
+using physics::Surface;  // spec.hpp
 
 // The pair's values from each side's: the larger restitution, so that a bouncy body bounces on
 // any floor and a dead one stays dead only on a dead floor (restitution is a property of the
