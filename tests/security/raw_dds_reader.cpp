@@ -9,8 +9,10 @@
 // once COUNT samples came, and stays until SIGTERM so that its memory can be read from /proc.
 // Exit: 0 on SIGTERM after COUNT samples; 1 if they did not come within 60 s; 2 bad arguments.
 #include <dds/dds.h>
+#include <pthread.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
