@@ -14,7 +14,7 @@
 #include "loop/log.hpp"
 #include "loop/publisher.hpp"
 #include "loop/shared_states.hpp"
-#include "null_transport.hpp"
+#include "transport/null_transport.hpp"
 
 namespace {
 
@@ -46,7 +46,7 @@ void set_bytes(benchmark::State& state, std::int64_t bodies) {
 void BM_CopyToFirstSwapIntoLast(benchmark::State& state) {
   const std::int64_t n = state.range(0);
   const rigid::StateFrame shape = shaped(n);
-  rigid::loop::testing::NullTransport bus_a, bus_b;
+  rigid::transport::NullTransport bus_a, bus_b;
   NullLog log;
   Publisher a(bus_a, shape, log);
   Publisher b(bus_b, shape, log);
@@ -69,7 +69,7 @@ void BM_SwapIntoSharedSlot(benchmark::State& state) {
   const std::int64_t n = state.range(0);
   const rigid::StateFrame shape = shaped(n);
   SharedStates states(shape);
-  rigid::loop::testing::NullTransport bus_a, bus_b;
+  rigid::transport::NullTransport bus_a, bus_b;
   NullLog log;
   Publisher a(bus_a, states, log);
   Publisher b(bus_b, states, log);

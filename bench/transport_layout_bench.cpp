@@ -8,7 +8,7 @@
 // state through rigid's own codec (conversion included), for scale.
 //
 // Run (from the build directory; medians of 5 runs):
-//   server/transport/transport_layout_bench --benchmark_repetitions=5
+//   bench/transport_layout_bench --benchmark_repetitions=5
 //       --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <dds/dds.h>

@@ -30,7 +30,8 @@ install(CODE "
 # The SDK. rigid_client is static; what it links privately (the transports, the generated DDS
 # types, liblcm, libddsc, libcrypto, threads) is installed or named in the exported targets, so a
 # consumer links with rigid::client alone.
-install(TARGETS rigid_client rigid_messages rigid_transport rigid_dds_msgs rigid_lcm_msgs
+install(TARGETS rigid_client rigid_messages rigid_transport rigid_transport_dds
+                rigid_transport_lcm rigid_dds_msgs rigid_lcm_msgs
         EXPORT rigidTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -4,56 +4,6 @@
 
 namespace rigid::client {
 
-std::string_view shape_name(ShapeKind kind) {
-  switch (kind) {
-    case ShapeKind::kSphere:
-      return "sphere";
-    case ShapeKind::kBox:
-      return "box";
-    case ShapeKind::kCylinder:
-      return "cylinder";
-    case ShapeKind::kEllipsoid:
-      return "ellipsoid";
-    case ShapeKind::kCapsule:
-      return "capsule";
-    case ShapeKind::kNone:
-      break;
-  }
-  return "";
-}
-
-std::string_view control_name(ControlKind kind) {
-  switch (kind) {
-    case ControlKind::kPause:
-      return "pause";
-    case ControlKind::kResume:
-      return "resume";
-    case ControlKind::kStep:
-      return "step";
-    case ControlKind::kReset:
-      return "reset";
-    case ControlKind::kSetRtf:
-      return "rate";
-    case ControlKind::kNone:
-      break;
-  }
-  return "none";
-}
-
-std::string_view outcome_name(Outcome outcome) {
-  switch (outcome) {
-    case Outcome::kOk:
-      return "ok";
-    case Outcome::kInvalid:
-      return "invalid";
-    case Outcome::kNotAllowed:
-      return "not allowed";
-    case Outcome::kFailed:
-      return "failed";
-  }
-  return "unknown outcome";
-}
-
 std::optional<std::int32_t> find_body(const SceneDescription& scene, std::string_view name_or_id) {
   for (std::size_t i = 0; i < scene.names.size(); ++i)
     if (scene.names[i] == name_or_id) return scene.ids[i];

@@ -15,15 +15,15 @@
 // cancelled: tau = I rate_gain (w_cmd - w) + w x I w.
 #pragma once
 
+#include <Eigen/Dense>
 #include <array>
-
-#include "physics/math.hpp"
 
 namespace rigid::controllers {
 
-using physics::Mat3;
-using physics::Quat;
-using physics::Vec3;
+// Eigen's own types: the controller needs quaternion and rotation algebra, not the physics core.
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
 
 struct Thruster {
   Vec3 point_B;  // from the centre of mass, body frame (m)

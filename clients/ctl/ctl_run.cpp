@@ -48,18 +48,6 @@ std::string no_answer(const CtlOptions& o, const std::string& what) {
          " (is rigidd running, with the same --transport, --prefix and --dds-domain?)";
 }
 
-std::string_view mode_name(rigid::Mode m) {
-  switch (m) {
-    case rigid::Mode::kRealtime:
-      return "realtime";
-    case rigid::Mode::kFast:
-      return "fast";
-    case rigid::Mode::kLockstep:
-      return "lockstep";
-  }
-  return "?";
-}
-
 int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostream& err) {
   const auto scene = session.wait_scene(o.timeout);
   if (!scene) {
@@ -322,8 +310,9 @@ void print_stats(const rigid::StatsReport& s, std::ostream& out) {
                                r.stale_sequence + r.queue_full + r.invalid + r.over_share +
                                r.rate_limited + r.not_permitted;
   out << fmt("tick %lld  t = %.3f s  %s%s  rtf %.4f (since start %.4f)\n",
-             static_cast<long long>(s.tick), s.sim_time, std::string(mode_name(s.mode)).c_str(),
-             s.paused ? " paused" : "", s.rtf_last_second, s.rtf_since_start)
+             static_cast<long long>(s.tick), s.sim_time,
+             std::string(rigid::mode_name(s.mode)).c_str(), s.paused ? " paused" : "",
+             s.rtf_last_second, s.rtf_since_start)
       << fmt("  lateness us: p50 %.1f  p99 %.1f  max %.1f   overruns %lld\n", s.lateness_p50_us,
              s.lateness_p99_us, s.lateness_max_us, static_cast<long long>(s.overruns))
       << fmt("  step cost us: p50 %.1f  max %.1f   states skipped %lld\n", s.step_cost_p50_us,

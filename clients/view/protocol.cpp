@@ -396,7 +396,7 @@ std::string wrenches_json(const std::vector<AcceptedCommand>& accepted,
   for (const AcceptedCommand& a : accepted)
     wrenches += a.kind == AcceptedKind::kWrench ? 1 : 0;
   if (wrenches > kMaxWrenchesShown) skip = wrenches - kMaxWrenchesShown;
-  const auto frame = [](Frame f) { return f == Frame::kBody ? "\"body\"" : "\"world\""; };
+  const auto frame = [](Frame f) { return '"' + std::string(rigid::frame_name(f)) + '"'; };
   const bool with_until = until.size() == accepted.size();
   bool first = true;
   for (std::size_t i = 0; i < accepted.size(); ++i) {

@@ -39,8 +39,9 @@ struct Sender {
   char name[80] = {};  // printable: the identity, "dds:HANDLE" or "lcm:IP:PORT"
 };
 
-// A wrench that passed validation. body is a valid id; numbers are finite and within limits.
-struct Wrench {
+// A wrench (rigid::Wrench: force, point, frames, torque, ttl in s of simulated time) that passed
+// validation, on a body that is a valid id; its numbers are finite and within limits.
+struct Wrench : rigid::Wrench {
   // With DDS Security, the identity that wrote it (a hash; 0 without): part of the key of the
   // wrench table, so that no identity can replace another's wrenches.
   std::uint64_t owner = 0;
@@ -48,12 +49,6 @@ struct Wrench {
   std::int64_t seq = 0;
   std::int32_t key = 0;
   std::int32_t body = 0;
-  Vec3 force{};  // N, in force_frame
-  Vec3 point{};  // m, from the centre of mass, in B
-  rigid::Frame force_frame = rigid::Frame::kWorld;
-  Vec3 torque{};  // N m, in torque_frame
-  rigid::Frame torque_frame = rigid::Frame::kWorld;
-  double ttl = 0.0;           // s of simulated time; 0: one tick
   std::int64_t stamp_ns = 0;  // the sender's stamp (CLOCK_REALTIME), passed through
 };
 

@@ -126,8 +126,12 @@ Checked<Wrench> CommandValidator::check(const rigid::WrenchCommand& w) const {
 
   Checked<Wrench> c;
   c.ok = true;
-  c.value = Wrench{0,       w.source,      w.seq,    w.key,          body,  w.force,
-                   w.point, w.force_frame, w.torque, w.torque_frame, w.ttl, w.stamp_ns};
+  c.value.wrench() = w.wrench();
+  c.value.source = w.source;
+  c.value.seq = w.seq;
+  c.value.key = w.key;
+  c.value.body = body;
+  c.value.stamp_ns = w.stamp_ns;
   return c;
 }
 

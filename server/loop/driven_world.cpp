@@ -7,6 +7,8 @@ physics::Vec3 eigen(const Vec3& v) {
   return {v[0], v[1], v[2]};
 }
 
+// The one place a message's Frame becomes the physics' own: the physics core includes nothing but
+// Eigen and the standard library, so it keeps an equivalent enum of its own.
 physics::Frame frame_of(rigid::Frame f) {
   return f == rigid::Frame::kBody ? physics::Frame::kBody : physics::Frame::kWorld;
 }

@@ -20,12 +20,7 @@ rigid::AcceptedCommand accepted_command(const JournalEntry& e) {
   a.seq = w.seq;
   a.key = w.key;
   a.body_id = w.body;
-  a.force = w.force;
-  a.point = w.point;
-  a.force_frame = w.force_frame;
-  a.torque = w.torque;
-  a.torque_frame = w.torque_frame;
-  a.ttl = w.ttl;
+  a.wrench() = w.wrench();
   a.stamp_ns = w.stamp_ns;
   return a;
 }
@@ -36,12 +31,7 @@ Wrench wrench_of(const rigid::AcceptedCommand& a) {
   w.seq = a.seq;
   w.key = a.key;
   w.body = a.body_id;
-  w.force = a.force;
-  w.point = a.point;
-  w.force_frame = a.force_frame;
-  w.torque = a.torque;
-  w.torque_frame = a.torque_frame;
-  w.ttl = a.ttl;
+  w.wrench() = a.wrench();
   w.stamp_ns = a.stamp_ns;
   return w;
 }

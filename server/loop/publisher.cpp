@@ -9,6 +9,7 @@
 #include <string>
 
 #include "loop/clock.hpp"
+#include "rigid/names.hpp"
 #include "util/thread_name.hpp"
 
 namespace rigid::loop {
@@ -30,20 +31,6 @@ std::string_view kind_name(rigid::ControlKind kind) {
       break;
   }
   return "unknown";
-}
-
-std::string_view outcome_name(rigid::Outcome outcome) {
-  switch (outcome) {
-    case rigid::Outcome::kOk:
-      return "ok";
-    case rigid::Outcome::kInvalid:
-      return "invalid";
-    case rigid::Outcome::kNotAllowed:
-      return "not allowed";
-    case rigid::Outcome::kFailed:
-      return "failed";
-  }
-  return "?";
 }
 
 }  // namespace
@@ -147,7 +134,7 @@ void Publisher::send_replies() {
     std::string line =
         "control " + std::string(kind_name(r.kind)) + " from source " + std::to_string(r.source) +
         " seq " + std::to_string(r.seq) + " (" + std::string(to_string(transport_.bus())) +
-        "): " + std::string(outcome_name(r.outcome)) + " at tick " + std::to_string(r.tick);
+        "): " + std::string(rigid::outcome_name(r.outcome)) + " at tick " + std::to_string(r.tick);
     if (!m.message.empty()) line += ": " + m.message;
     if (result != transport::PublishResult::kOk) line += " (the reply could not be sent)";
     log_.line(line);

@@ -11,6 +11,7 @@
 #include "loop/clock.hpp"
 #include "loop/state_conversion.hpp"
 #include "records/log_records.hpp"
+#include "rigid/names.hpp"
 #include "util/cpu_affinity.hpp"
 #include "util/thread_name.hpp"
 
@@ -23,18 +24,6 @@ std::vector<std::string> body_names(const scene::Scene& scene) {
   for (const physics::BodySpec& b : scene.world.bodies)
     names.push_back(b.name);
   return names;
-}
-
-std::string_view mode_name(rigid::Mode mode) {
-  switch (mode) {
-    case rigid::Mode::kRealtime:
-      return "realtime";
-    case rigid::Mode::kFast:
-      return "fast";
-    case rigid::Mode::kLockstep:
-      return "lockstep";
-  }
-  return "?";
 }
 
 LoopConfig loop_config(const scene::Scene& scene, const ServerOptions& options) {
@@ -65,7 +54,7 @@ msgs::LogHeader journal_header(const scene::Scene& scene, const ServerOptions& o
   h.set_integrator(info.integrator);
   h.set_rate_hz(scene.rate_hz);
   h.set_scene_text(options.scene_text);
-  h.set_mode(std::string(mode_name(options.mode)));
+  h.set_mode(std::string(rigid::mode_name(options.mode)));
   h.set_wrench_capacity(options.wrench_capacity);
   return h;
 }

@@ -49,7 +49,7 @@ std::string describe(const scene::Scene& s, const rigidd::RigiddOptions& o) {
        : s.threads_given ? " (scene)"
                          : "") +
       ")";
-  text += ", mode " + std::string(rigidd::mode_name(o.mode));
+  text += ", mode " + std::string(rigid::mode_name(o.mode));
   if (o.rt_workers) text += ", step workers at real-time priority (--rt-workers)";
   return text;
 }

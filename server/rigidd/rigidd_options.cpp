@@ -43,18 +43,6 @@ void parse_transports(std::string_view list, RigiddOptions& o) {
 
 }  // namespace
 
-std::string_view mode_name(rigid::Mode mode) {
-  switch (mode) {
-    case rigid::Mode::kRealtime:
-      return "realtime";
-    case rigid::Mode::kFast:
-      return "fast";
-    case rigid::Mode::kLockstep:
-      return "lockstep";
-  }
-  return "?";
-}
-
 RigiddOptions parse_options(std::span<const std::string_view> args) {
   RigiddOptions o;
   for (std::size_t i = 0; i < args.size(); ++i) {

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "rigid/messages.hpp"
+#include "rigid/names.hpp"
 
 namespace rigid::rigidd {
 
@@ -52,8 +53,6 @@ RigiddOptions parse_options(std::span<const std::string_view> args);
 // so it also works from the build directory). Throws UsageError naming both places if neither has
 // it.
 std::string default_scene_path(const std::string& source_dir);
-
-std::string_view mode_name(rigid::Mode mode);
 
 // The physics threads rigidd uses when neither --threads nor the scene says: the CPUs this process
 // may run on (its affinity mask) minus one, at least 1. The loop thread is one of them and is

@@ -137,7 +137,7 @@ struct Rig {
     push(c);
   }
 
-  testing::NullTransport bus_a, bus_b;
+  transport::NullTransport bus_a, bus_b;
   MemoryLog log;
   rigid::StateFrame shape;
   SharedStates states;

@@ -14,8 +14,8 @@
 
 #include "loop/clock.hpp"
 #include "loop/loop.hpp"
-#include "null_transport.hpp"
 #include "scene/scene.hpp"
+#include "transport/null_transport.hpp"
 #include "transport/transport.hpp"
 
 namespace rigid::loop::testing {

@@ -24,7 +24,7 @@ namespace rigid::loop {
 namespace {
 
 // Keeps every state it is given.
-class RecordingTransport final : public testing::NullTransport {
+class RecordingTransport final : public transport::NullTransport {
  public:
   using NullTransport::publish;
   transport::PublishResult publish(const rigid::StateFrame& s) override {
@@ -166,7 +166,7 @@ TEST(Publisher, TwoBusesShareEachStateAndLetGoOfEverySlot) {
 }
 
 // A transport that spends `busy_us` of CPU time on each state (a large world's encoding).
-class BusyTransport final : public testing::NullTransport {
+class BusyTransport final : public transport::NullTransport {
  public:
   using NullTransport::publish;
   transport::PublishResult publish(const rigid::StateFrame&) override {

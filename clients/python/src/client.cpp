@@ -21,18 +21,6 @@
 namespace rigid::python {
 namespace {
 
-const char* mode_name(rigid::Mode m) {
-  switch (m) {
-    case rigid::Mode::kRealtime:
-      return "realtime";
-    case rigid::Mode::kFast:
-      return "fast";
-    case rigid::Mode::kLockstep:
-      return "lockstep";
-  }
-  return "unknown";
-}
-
 py::dict reply_dict(const ControlReply& r) {
   py::dict d;
   d["command"] = std::string(sdk::control_name(r.command));
@@ -55,9 +43,9 @@ py::dict accepted_dict(const AcceptedCommand& a) {
   d["body"] = a.body_id;
   d["force"] = vec_tuple(a.force);
   d["at"] = vec_tuple(a.point);
-  d["frame"] = a.force_frame == rigid::Frame::kBody ? "body" : "world";
+  d["frame"] = std::string(rigid::frame_name(a.force_frame));
   d["torque"] = vec_tuple(a.torque);
-  d["torque_frame"] = a.torque_frame == rigid::Frame::kBody ? "body" : "world";
+  d["torque_frame"] = std::string(rigid::frame_name(a.torque_frame));
   d["ttl"] = a.ttl;
   return d;
 }
@@ -98,7 +86,7 @@ py::dict stats_dict(const StatsReport& s) {
   py::dict d;
   d["tick"] = s.tick;
   d["sim_time"] = s.sim_time;
-  d["mode"] = mode_name(s.mode);
+  d["mode"] = std::string(rigid::mode_name(s.mode));
   d["paused"] = s.paused;
   d["rtf_last_second"] = s.rtf_last_second;
   d["rtf_since_start"] = s.rtf_since_start;
@@ -147,8 +135,11 @@ py::dict stats_dict(const StatsReport& s) {
 }
 
 rigid::Frame wire_frame(const py::handle& value, std::string_view what) {
-  return to_frame(value, what) == physics::Frame::kBody ? rigid::Frame::kBody
-                                                        : rigid::Frame::kWorld;
+  if (py::isinstance<py::str>(value)) {
+    if (const auto f = rigid::frame_named(value.cast<std::string>())) return *f;
+  }
+  raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
+        std::string(what) + " must be 'world' or 'body', got " + std::string(py::repr(value)));
 }
 
 class PySession {

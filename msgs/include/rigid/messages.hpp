@@ -95,20 +95,32 @@ struct StateFrame {
   bool operator==(const StateFrame&) const = default;
 };
 
-// A force at a body-local point, plus an optional pure torque (controller -> server). The same
-// (source, body, key) replaces the previous wrench; it acts until ttl runs out (0: one tick).
-struct WrenchCommand {
-  std::int64_t source = 0;
-  std::int64_t seq = 0;
-  std::int32_t key = 0;
-  std::int32_t body_id = -1;  // < 0: the body is named by body_name
-  std::string body_name;
+// A wrench: a force at a body-local point, plus an optional pure torque, acting for ttl. Its one
+// home: the command a controller sends, the command the server accepted, the loop's table of
+// acting wrenches and its journal hold it as this base, and the converters (transport/
+// wire_fields.hpp, records/log_records.cpp), the view's JSON and Python's dicts read and write it
+// once as a whole, so that a new field is added here and where those spell it out.
+struct Wrench {
   Vec3 force{};  // N, in force_frame
   Vec3 point{};  // application point from the centre of mass, in B (m)
   Frame force_frame = Frame::kWorld;
   Vec3 torque{};  // N m, in torque_frame; zero for none
   Frame torque_frame = Frame::kWorld;
-  double ttl = 0.0;  // s
+  double ttl = 0.0;  // s; 0: one tick
+
+  const Wrench& wrench() const { return *this; }
+  Wrench& wrench() { return *this; }
+  bool operator==(const Wrench&) const = default;
+};
+
+// A wrench on one body (controller -> server). The same (source, body, key) replaces the previous
+// wrench; it acts until ttl runs out (0: one tick).
+struct WrenchCommand : Wrench {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  std::int32_t key = 0;
+  std::int32_t body_id = -1;  // < 0: the body is named by body_name
+  std::string body_name;
   std::int64_t stamp_ns = 0;
 
   bool operator==(const WrenchCommand&) const = default;
@@ -141,21 +153,15 @@ enum class AcceptedKind : std::int32_t { kWrench = 1, kControl = 2 };
 
 // A command the server accepted, once, with the tick at which it took effect (server -> all): a
 // wrench that entered the table of acting wrenches (it acts from the step that starts at `tick`),
-// or a control request carried out. The wrench fields hold the wrench as the server applies it
+// or a control request carried out. The Wrench base holds the wrench as the server applies it
 // (its body resolved to an id); the control fields are set for kControl.
-struct AcceptedCommand {
+struct AcceptedCommand : Wrench {
   std::int64_t tick = 0;
   AcceptedKind kind = AcceptedKind::kWrench;
   std::int64_t source = 0;
   std::int64_t seq = 0;
   std::int32_t key = 0;
   std::int32_t body_id = 0;
-  Vec3 force{};
-  Vec3 point{};
-  Frame force_frame = Frame::kWorld;
-  Vec3 torque{};
-  Frame torque_frame = Frame::kWorld;
-  double ttl = 0.0;
   ControlKind command = ControlKind::kNone;
   std::int64_t steps = 0;
   double rtf = 0.0;

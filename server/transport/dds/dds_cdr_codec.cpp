@@ -4,30 +4,31 @@
 #include <dds/ddsi/ddsi_cdrstream.h>
 
 #include <limits>
+#include <tuple>
 #include <vector>
 
+#include "transport/codec_impl.hpp"
 #include "transport/dds/dds_convert.hpp"
 
 namespace rigid::transport::dds {
-namespace {
 
 // One message type's scratch: an output stream grown once and reused, and a sample whose
 // sequences Cyclone reallocates only when a larger message arrives.
 template <class Plain>
-class Slot {
+class CdrSlot {
  public:
   using Dds = typename DdsTypeOf<Plain>::type;
 
-  Slot() : ops_(DdsTypeOf<Plain>::descriptor->m_ops) {
+  CdrSlot() : ops_(DdsTypeOf<Plain>::descriptor->m_ops) {
     xcdr_version_ = dds_stream_minimum_xcdr_version(ops_);
     dds_ostream_init(&out_, 0, xcdr_version_);
   }
-  ~Slot() {
+  ~CdrSlot() {
     dds_ostream_fini(&out_);
     dds_stream_free_sample(&incoming_, ops_);
   }
-  Slot(const Slot&) = delete;
-  Slot& operator=(const Slot&) = delete;
+  CdrSlot(const CdrSlot&) = delete;
+  CdrSlot& operator=(const CdrSlot&) = delete;
 
   std::span<const std::uint8_t> encode(const Plain& message) {
     Dds outgoing{};
@@ -66,63 +67,27 @@ class Slot {
   Dds incoming_{};
 };
 
-}  // namespace
+}  // namespace rigid::transport::dds
 
-struct CdrCodec::Buffers {
-  Slot<StateFrame> state;
-  Slot<WrenchCommand> wrench;
-  Slot<ControlCommand> control;
-  Slot<ControlReply> reply;
-  Slot<StatsReport> stats;
-  Slot<SceneDescription> scene;
-  Slot<AcceptedCommand> accepted;
+namespace rigid::transport {
+
+template <>
+struct CodecBuffers<Bus::kDds> {
+  template <class Plain>
+  std::span<const std::uint8_t> encode(const Plain& message) {
+    return std::get<dds::CdrSlot<Plain>>(slots).encode(message);
+  }
+  template <class Plain>
+  DecodeStatus decode(std::span<const std::uint8_t> bytes, Plain& out) {
+    return std::get<dds::CdrSlot<Plain>>(slots).decode(bytes, out);
+  }
+
+  std::tuple<dds::CdrSlot<StateFrame>, dds::CdrSlot<WrenchCommand>, dds::CdrSlot<ControlCommand>,
+             dds::CdrSlot<ControlReply>, dds::CdrSlot<StatsReport>, dds::CdrSlot<SceneDescription>,
+             dds::CdrSlot<AcceptedCommand>>
+      slots;
 };
 
-CdrCodec::CdrCodec() : buffers_(std::make_unique<Buffers>()) {}
-CdrCodec::~CdrCodec() = default;
+template class Codec<Bus::kDds>;
 
-std::span<const std::uint8_t> CdrCodec::encode(const StateFrame& m) {
-  return buffers_->state.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const WrenchCommand& m) {
-  return buffers_->wrench.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const ControlCommand& m) {
-  return buffers_->control.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const ControlReply& m) {
-  return buffers_->reply.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const StatsReport& m) {
-  return buffers_->stats.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const SceneDescription& m) {
-  return buffers_->scene.encode(m);
-}
-std::span<const std::uint8_t> CdrCodec::encode(const AcceptedCommand& m) {
-  return buffers_->accepted.encode(m);
-}
-
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, StateFrame& out) {
-  return buffers_->state.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, WrenchCommand& out) {
-  return buffers_->wrench.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, ControlCommand& out) {
-  return buffers_->control.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, ControlReply& out) {
-  return buffers_->reply.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, StatsReport& out) {
-  return buffers_->stats.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, SceneDescription& out) {
-  return buffers_->scene.decode(b, out);
-}
-DecodeStatus CdrCodec::decode(std::span<const std::uint8_t> b, AcceptedCommand& out) {
-  return buffers_->accepted.decode(b, out);
-}
-
-}  // namespace rigid::transport::dds
+}  // namespace rigid::transport

@@ -1,5 +1,5 @@
-// Plain messages (messages.hpp) <-> idlc's C types (msgs/rigid.idl). Only the DDS adapter and
-// codec include this.
+// Plain messages (messages.hpp) <-> idlc's C types (msgs/rigid.idl), through the field lists both
+// buses share (transport/wire_fields.hpp). Only the DDS adapter and codec include this.
 //
 // Outgoing messages are borrowed, not copied: the C struct's sequences and strings point into the
 // plain message, which must outlive the write (dds_write serializes before it returns). So
@@ -15,35 +15,9 @@
 #include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
 #include "transport/topic.hpp"
+#include "transport/wire_fields.hpp"
 
 namespace rigid::transport::dds {
-
-// Storage some borrowed views need (SceneInfo's array of C strings and its shape kinds as int32).
-struct BorrowScratch {
-  std::vector<std::array<char, kMaxNameLength + 1>> names;  // string<128>: char[129] each
-  std::vector<std::int32_t> shape_kinds;
-  std::vector<std::array<char, kMaxSenderLength + 1>> senders;
-  std::vector<std::array<char, kMaxReasonLength + 1>> reasons;
-  std::vector<std::int64_t> counts;
-};
-
-// false: the per-body arrays disagree with the body count (or exceed DDS's uint32 lengths).
-bool borrow(const StateFrame& in, BorrowScratch& scratch, rigid_WorldState& out);
-bool borrow(const WrenchCommand& in, BorrowScratch& scratch, rigid_Wrench& out);
-bool borrow(const ControlCommand& in, BorrowScratch& scratch, rigid_Control& out);
-bool borrow(const ControlReply& in, BorrowScratch& scratch, rigid_ControlReply& out);
-bool borrow(const StatsReport& in, BorrowScratch& scratch, rigid_Stats& out);
-bool borrow(const SceneDescription& in, BorrowScratch& scratch, rigid_SceneInfo& out);
-bool borrow(const AcceptedCommand& in, BorrowScratch& scratch, rigid_AcceptedCommand& out);
-
-// Copies into `out`, reusing its storage. kInconsistentLengths when per-body sequences disagree.
-DecodeStatus copy_from(const rigid_WorldState& in, StateFrame& out);
-DecodeStatus copy_from(const rigid_Wrench& in, WrenchCommand& out);
-DecodeStatus copy_from(const rigid_Control& in, ControlCommand& out);
-DecodeStatus copy_from(const rigid_ControlReply& in, ControlReply& out);
-DecodeStatus copy_from(const rigid_Stats& in, StatsReport& out);
-DecodeStatus copy_from(const rigid_SceneInfo& in, SceneDescription& out);
-DecodeStatus copy_from(const rigid_AcceptedCommand& in, AcceptedCommand& out);
 
 // The idlc type and topic carrying each plain message.
 template <class Plain>
@@ -90,5 +64,36 @@ struct DdsTypeOf<AcceptedCommand> {
   static constexpr const dds_topic_descriptor_t* descriptor = &rigid_AcceptedCommand_desc;
   static constexpr Topic topic = Topic::kAccepted;
 };
+
+// Storage some borrowed views need (strings as char arrays, shape kinds as int32): one per writer.
+using BorrowScratch = wire::Scratch;
+
+// The rows (bodies, refused sources) a received sample holds, or false when its sequences' lengths
+// disagree.
+bool rows(const rigid_WorldState& in, std::size_t& n);
+bool rows(const rigid_Stats& in, std::size_t& n);
+bool rows(const rigid_SceneInfo& in, std::size_t& n);
+template <class Dds>
+bool rows(const Dds& /*in*/, std::size_t& n) {
+  n = 0;
+  return true;
+}
+
+// Fills `out` from `in`. false: the per-body arrays disagree with the body count (or exceed DDS's
+// uint32 lengths), or a string is longer than its bound.
+template <class Plain>
+bool borrow(const Plain& in, BorrowScratch& scratch, typename DdsTypeOf<Plain>::type& out) {
+  std::size_t n = 0;
+  return wire::rows(in, n) && wire::encode(in, out, n, &scratch);
+}
+
+// Copies into `out`, reusing its storage. kInconsistentLengths when per-body sequences disagree.
+template <class Plain>
+DecodeStatus copy_from(const typename DdsTypeOf<Plain>::type& in, Plain& out) {
+  std::size_t n = 0;
+  if (!rows(in, n)) return DecodeStatus::kInconsistentLengths;
+  wire::decode(in, out, n);
+  return DecodeStatus::kOk;
+}
 
 }  // namespace rigid::transport::dds

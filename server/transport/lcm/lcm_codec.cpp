@@ -8,12 +8,25 @@
 #include <exception>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
+#include "transport/codec_impl.hpp"
 #include "transport/lcm/lcm_convert.hpp"
 #include "transport/lcm/lcm_layout_check.hpp"
 
 namespace rigid::transport::lcm {
+
+// One message type's scratch: separate messages for the encoding and the decoding side, so the two
+// may run on different threads.
+template <class LcmType>
+struct LcmSlot {
+  LcmType outgoing{};
+  std::vector<std::uint8_t> bytes;
+  LcmType incoming{};
+};
+
 namespace {
 
 using K = FieldLayout::Kind;
@@ -143,17 +156,20 @@ constexpr std::array kAcceptedCommandLayout{
     kI64,   // stamp_ns
 };
 
-// One message type's scratch: separate messages for the encoding and the decoding side, so the two
-// may run on different threads.
-template <class LcmType>
-struct Slot {
-  LcmType outgoing{};
-  std::vector<std::uint8_t> bytes;
-  LcmType incoming{};
-};
+// The layout of the message carrying Plain.
+template <class Plain>
+constexpr const auto& layout_for() {
+  if constexpr (std::is_same_v<Plain, StateFrame>) return kWorldStateLayout;
+  if constexpr (std::is_same_v<Plain, WrenchCommand>) return kWrenchLayout;
+  if constexpr (std::is_same_v<Plain, ControlCommand>) return kControlLayout;
+  if constexpr (std::is_same_v<Plain, ControlReply>) return kControlReplyLayout;
+  if constexpr (std::is_same_v<Plain, StatsReport>) return kStatsLayout;
+  if constexpr (std::is_same_v<Plain, SceneDescription>) return kSceneInfoLayout;
+  if constexpr (std::is_same_v<Plain, AcceptedCommand>) return kAcceptedCommandLayout;
+}
 
 template <class LcmType, class Plain>
-std::span<const std::uint8_t> encode_with(Slot<LcmType>& slot, const Plain& message) {
+std::span<const std::uint8_t> encode_with(LcmSlot<LcmType>& slot, const Plain& message) {
   if (!to_lcm(message, slot.outgoing)) return {};
   const int size = slot.outgoing.getEncodedSize();
   slot.bytes.resize(static_cast<std::size_t>(size));
@@ -162,7 +178,7 @@ std::span<const std::uint8_t> encode_with(Slot<LcmType>& slot, const Plain& mess
 }
 
 template <class LcmType, class Plain, std::size_t N>
-DecodeStatus decode_with(Slot<LcmType>& slot, const std::array<FieldLayout, N>& layout,
+DecodeStatus decode_with(LcmSlot<LcmType>& slot, const std::array<FieldLayout, N>& layout,
                          std::span<const std::uint8_t> payload, Plain& out) {
   if (payload.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     return DecodeStatus::kMalformed;
@@ -216,32 +232,46 @@ class BigEndian {
 };
 
 }  // namespace
+}  // namespace rigid::transport::lcm
 
-struct Codec::Buffers {
-  Slot<rigid_lcm::WorldState> state;
-  Slot<rigid_lcm::Wrench> wrench;
-  Slot<rigid_lcm::Control> control;
-  Slot<rigid_lcm::ControlReply> reply;
-  Slot<rigid_lcm::Stats> stats;
-  Slot<rigid_lcm::SceneInfo> scene;
-  Slot<rigid_lcm::AcceptedCommand> accepted;
+namespace rigid::transport {
+
+template <>
+struct CodecBuffers<Bus::kLcm> {
+  template <class Plain>
+  using SlotOf = lcm::LcmSlot<typename lcm::LcmTypeOf<Plain>::type>;
+
+  // The state and the scene are written by hand (below); every other message through lcm-gen's
+  // type.
+  std::span<const std::uint8_t> encode(const StateFrame& m);
+  std::span<const std::uint8_t> encode(const SceneDescription& m);
+  template <class Plain>
+  std::span<const std::uint8_t> encode(const Plain& message) {
+    return lcm::encode_with(std::get<SlotOf<Plain>>(slots), message);
+  }
+  template <class Plain>
+  DecodeStatus decode(std::span<const std::uint8_t> payload, Plain& out) {
+    return lcm::decode_with(std::get<SlotOf<Plain>>(slots), lcm::layout_for<Plain>(), payload, out);
+  }
+
+  std::tuple<SlotOf<StateFrame>, SlotOf<WrenchCommand>, SlotOf<ControlCommand>,
+             SlotOf<ControlReply>, SlotOf<StatsReport>, SlotOf<SceneDescription>,
+             SlotOf<AcceptedCommand>>
+      slots;
 };
-
-Codec::Codec() : buffers_(std::make_unique<Buffers>()) {}
-Codec::~Codec() = default;
 
 // A state is written straight from the frame into its payload: through rigid_lcm::WorldState (as
 // the commands, replies and stats still are) it was copied once more on the way, which cost the
 // publisher a second state's memory (10 MB at 10^5 bodies) and a pass over it per state. The bytes
 // are those rigid_lcm::WorldState::encode writes (transport_codec_test holds the two to the same
 // bytes).
-std::span<const std::uint8_t> Codec::encode(const StateFrame& m) {
+std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const StateFrame& m) {
   const std::size_t n = m.body_count();
   if (!m.lengths_agree() || n > kMaxBodies) return {};
-  std::vector<std::uint8_t>& bytes = buffers_->state.bytes;
+  std::vector<std::uint8_t>& bytes = std::get<SlotOf<StateFrame>>(slots).bytes;
   // Fingerprint, three counts, tick, sim_time, stamp_ns, the ids, 13 doubles a body.
   bytes.resize(8 + 3 * 4 + 3 * 8 + n * (4 + 13 * 8));
-  BigEndian out(bytes.data());
+  lcm::BigEndian out(bytes.data());
   out.put(rigid_lcm::WorldState::getHash());
   out.put(static_cast<std::int32_t>(n));
   out.put(static_cast<std::int32_t>(3 * n));
@@ -257,23 +287,11 @@ std::span<const std::uint8_t> Codec::encode(const StateFrame& m) {
   assert(out.at() == bytes.data() + bytes.size());
   return bytes;
 }
-std::span<const std::uint8_t> Codec::encode(const WrenchCommand& message) {
-  return encode_with(buffers_->wrench, message);
-}
-std::span<const std::uint8_t> Codec::encode(const ControlCommand& message) {
-  return encode_with(buffers_->control, message);
-}
-std::span<const std::uint8_t> Codec::encode(const ControlReply& message) {
-  return encode_with(buffers_->reply, message);
-}
-std::span<const std::uint8_t> Codec::encode(const StatsReport& message) {
-  return encode_with(buffers_->stats, message);
-}
 // The scene, too, is written straight into its payload (the bytes rigid_lcm::SceneInfo::encode
 // writes; transport_codec_test holds the two to the same bytes). rigidd republishes it every second
 // on LCM, so through lcm-gen's type it kept a second copy of the scene (~120 B a body: ids, names,
 // masses, inertia, shapes) for its whole life and copied the scene into it once a second.
-std::span<const std::uint8_t> Codec::encode(const SceneDescription& m) {
+std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const SceneDescription& m) {
   const std::size_t n = m.body_count();
   if (!m.lengths_agree() || n > kMaxBodies) return {};
   // lcm-gen encodes a string up to its first NUL but sizes it by size(): it refused a string
@@ -290,9 +308,9 @@ std::span<const std::uint8_t> Codec::encode(const SceneDescription& m) {
     size += string_size(name);
   // lcm_publish takes the size as an unsigned int, lcm-gen as an int.
   if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return {};
-  std::vector<std::uint8_t>& bytes = buffers_->scene.bytes;
+  std::vector<std::uint8_t>& bytes = std::get<SlotOf<SceneDescription>>(slots).bytes;
   bytes.resize(size);
-  BigEndian out(bytes.data());
+  lcm::BigEndian out(bytes.data());
   out.put(rigid_lcm::SceneInfo::getHash());
   out.put(static_cast<std::int32_t>(n));
   out.put(static_cast<std::int32_t>(6 * n));
@@ -321,31 +339,6 @@ std::span<const std::uint8_t> Codec::encode(const SceneDescription& m) {
   return bytes;
 }
 
-std::span<const std::uint8_t> Codec::encode(const AcceptedCommand& message) {
-  return encode_with(buffers_->accepted, message);
-}
+template class Codec<Bus::kLcm>;
 
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StateFrame& out) {
-  return decode_with(buffers_->state, kWorldStateLayout, payload, out);
-}
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, WrenchCommand& out) {
-  return decode_with(buffers_->wrench, kWrenchLayout, payload, out);
-}
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, ControlCommand& out) {
-  return decode_with(buffers_->control, kControlLayout, payload, out);
-}
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, ControlReply& out) {
-  return decode_with(buffers_->reply, kControlReplyLayout, payload, out);
-}
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, StatsReport& out) {
-  return decode_with(buffers_->stats, kStatsLayout, payload, out);
-}
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, SceneDescription& out) {
-  return decode_with(buffers_->scene, kSceneInfoLayout, payload, out);
-}
-
-DecodeStatus Codec::decode(std::span<const std::uint8_t> payload, AcceptedCommand& out) {
-  return decode_with(buffers_->accepted, kAcceptedCommandLayout, payload, out);
-}
-
-}  // namespace rigid::transport::lcm
+}  // namespace rigid::transport

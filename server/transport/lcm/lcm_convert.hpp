@@ -1,7 +1,10 @@
-// Plain messages (messages.hpp) <-> lcm-gen's C++ types (msgs/rigid.lcm). Copies reuse the
-// destination's storage. Only the LCM adapter and codec include this.
+// Plain messages (messages.hpp) <-> lcm-gen's C++ types (msgs/rigid.lcm), through the field lists
+// both buses share (transport/wire_fields.hpp), plus the count fields only LCM's types have
+// (num_bodies, ...). Copies reuse the destination's storage. Only the LCM adapter and codec include
+// this.
 #pragma once
 
+#include <cstddef>
 #include <rigid_lcm/AcceptedCommand.hpp>
 #include <rigid_lcm/Control.hpp>
 #include <rigid_lcm/ControlReply.hpp>
@@ -12,25 +15,76 @@
 
 #include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
+#include "transport/wire_fields.hpp"
 
 namespace rigid::transport::lcm {
 
-// false: the per-body arrays disagree with the body count, or are too long for LCM's int32 counts.
-bool to_lcm(const StateFrame& in, rigid_lcm::WorldState& out);
-bool to_lcm(const WrenchCommand& in, rigid_lcm::Wrench& out);
-bool to_lcm(const ControlCommand& in, rigid_lcm::Control& out);
-bool to_lcm(const ControlReply& in, rigid_lcm::ControlReply& out);
-bool to_lcm(const StatsReport& in, rigid_lcm::Stats& out);
-bool to_lcm(const SceneDescription& in, rigid_lcm::SceneInfo& out);
-bool to_lcm(const AcceptedCommand& in, rigid_lcm::AcceptedCommand& out);
+// The lcm-gen type carrying each plain message.
+template <class Plain>
+struct LcmTypeOf;
+template <>
+struct LcmTypeOf<StateFrame> {
+  using type = rigid_lcm::WorldState;
+};
+template <>
+struct LcmTypeOf<WrenchCommand> {
+  using type = rigid_lcm::Wrench;
+};
+template <>
+struct LcmTypeOf<ControlCommand> {
+  using type = rigid_lcm::Control;
+};
+template <>
+struct LcmTypeOf<ControlReply> {
+  using type = rigid_lcm::ControlReply;
+};
+template <>
+struct LcmTypeOf<StatsReport> {
+  using type = rigid_lcm::Stats;
+};
+template <>
+struct LcmTypeOf<SceneDescription> {
+  using type = rigid_lcm::SceneInfo;
+};
+template <>
+struct LcmTypeOf<AcceptedCommand> {
+  using type = rigid_lcm::AcceptedCommand;
+};
 
-// kInconsistentLengths when the count fields disagree (e.g. num_xyz != 3 * num_bodies).
-DecodeStatus from_lcm(const rigid_lcm::WorldState& in, StateFrame& out);
-DecodeStatus from_lcm(const rigid_lcm::Wrench& in, WrenchCommand& out);
-DecodeStatus from_lcm(const rigid_lcm::Control& in, ControlCommand& out);
-DecodeStatus from_lcm(const rigid_lcm::ControlReply& in, ControlReply& out);
-DecodeStatus from_lcm(const rigid_lcm::Stats& in, StatsReport& out);
-DecodeStatus from_lcm(const rigid_lcm::SceneInfo& in, SceneDescription& out);
-DecodeStatus from_lcm(const rigid_lcm::AcceptedCommand& in, AcceptedCommand& out);
+// The count fields for n rows (bodies, refused sources); a message without any has none to set.
+void set_counts(std::size_t n, rigid_lcm::WorldState& out);
+void set_counts(std::size_t n, rigid_lcm::Stats& out);
+void set_counts(std::size_t n, rigid_lcm::SceneInfo& out);
+template <class Lcm>
+void set_counts(std::size_t /*n*/, Lcm& /*out*/) {}
+
+// The rows a received message holds, or false when its count fields disagree (e.g. num_xyz !=
+// 3 * num_bodies) or exceed the bounds.
+bool rows(const rigid_lcm::WorldState& in, std::size_t& n);
+bool rows(const rigid_lcm::Stats& in, std::size_t& n);
+bool rows(const rigid_lcm::SceneInfo& in, std::size_t& n);
+template <class Lcm>
+bool rows(const Lcm& /*in*/, std::size_t& n) {
+  n = 0;
+  return true;
+}
+
+// false: the per-body arrays disagree with the body count, or are too long for LCM's int32 counts.
+template <class Plain>
+bool to_lcm(const Plain& in, typename LcmTypeOf<Plain>::type& out) {
+  std::size_t n = 0;
+  if (!wire::rows(in, n)) return false;
+  set_counts(n, out);
+  return wire::encode(in, out, n);
+}
+
+// kInconsistentLengths when the count fields disagree.
+template <class Plain>
+DecodeStatus from_lcm(const typename LcmTypeOf<Plain>::type& in, Plain& out) {
+  std::size_t n = 0;
+  if (!rows(in, n)) return DecodeStatus::kInconsistentLengths;
+  wire::decode(in, out, n);
+  return DecodeStatus::kOk;
+}
 
 }  // namespace rigid::transport::lcm

@@ -1,5 +1,4 @@
-// Names for what travels: control requests and their outcomes as rigidctl prints them, and the
-// bodies of a scene by name or id.
+// The bodies of a scene by name or id (and, from rigid/names.hpp, the enumerations' names).
 #pragma once
 
 #include <cstdint>
@@ -8,15 +7,14 @@
 #include <string_view>
 
 #include "rigid/messages.hpp"
+#include "rigid/names.hpp"
 
 namespace rigid::client {
 
-// "pause", "resume", "step", "reset", "rate".
-std::string_view control_name(ControlKind kind);
-// "ok", "invalid", "not allowed", "failed".
-std::string_view outcome_name(Outcome outcome);
-// "sphere", "box", "cylinder", "ellipsoid", "capsule"; "" for none (or an unknown value).
-std::string_view shape_name(ShapeKind kind);
+// The enumerations' names (rigid/names.hpp), also under rigid::client.
+using rigid::control_name;
+using rigid::outcome_name;
+using rigid::shape_name;
 
 // The id of body `name_or_id` in `scene` (a name, or a number that is an id); nothing if unknown.
 std::optional<std::int32_t> find_body(const SceneDescription& scene, std::string_view name_or_id);
