@@ -18,8 +18,8 @@
 #include <limits>
 #include <string>
 
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 
 namespace {
 
@@ -85,24 +85,24 @@ int main(int argc, char** argv) {
     constexpr std::int64_t kStart = 1'767'225'600'000'000'000;  // 2026-01-01T00:00:00Z
     constexpr std::int64_t kPeriod = 10'000'000;                // 100 states a second
 
-    rigid::records::RecordWriter w(out, /*overwrite=*/true);
+    rigid::common::RecordWriter w(out, /*overwrite=*/true);
     rigid::msgs::LogRecord r;
     const rigid::SceneDescription sc = scene(bodies);
     {
       rigid::msgs::LogHeader* h = r.mutable_header();
       h->set_kind(journal ? rigid::msgs::LogHeader::JOURNAL : rigid::msgs::LogHeader::RECORDING);
-      h->set_schema_version(rigid::records::kLogSchemaVersion);
-      h->set_software_version(rigid::records::software_version());
+      h->set_schema_version(rigid::common::kLogSchemaVersion);
+      h->set_software_version(rigid::common::software_version());
       h->set_writer("synthetic_recording");
       h->set_start_unix_ns(kStart);
-      rigid::records::to_record(sc, 0, *h->mutable_scene());
+      rigid::common::to_record(sc, 0, *h->mutable_scene());
       h->set_integrator(sc.integrator);
       h->set_rate_hz(1000);
       h->set_transport("dds");
       w.append(r);
     }
     r.Clear();
-    rigid::records::to_record(sc, 1'000'000, *r.mutable_scene());
+    rigid::common::to_record(sc, 1'000'000, *r.mutable_scene());
     w.append(r);
 
     Random rng{42};
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
         r.mutable_state_hash()->set_tick(f.tick);
         r.mutable_state_hash()->set_hash(static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15ull);
       } else {
-        rigid::records::to_record(f, (k + 1) * kPeriod, *r.mutable_state());
+        rigid::common::to_record(f, (k + 1) * kPeriod, *r.mutable_state());
       }
       w.append(r);
       if (k % 100 == 99) {
@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
         st.sim_time = f.sim_time;
         st.rtf_last_second = 1.0;
         r.Clear();
-        rigid::records::to_record(st, (k + 1) * kPeriod + 1000, *r.mutable_stats());
+        rigid::common::to_record(st, (k + 1) * kPeriod + 1000, *r.mutable_stats());
         w.append(r);
       }
       if (k == 5) {
@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
         a.force = {0, 0, 50};
         a.ttl = 0.2;
         r.Clear();
-        rigid::records::to_record(a, (k + 1) * kPeriod + 2000, *r.mutable_command());
+        rigid::common::to_record(a, (k + 1) * kPeriod + 2000, *r.mutable_command());
         w.append(r);
       }
     }

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "common/cli.hpp"
+#include "cli/cli.hpp"
 
 namespace rigid::ctl {
 

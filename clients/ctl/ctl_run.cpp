@@ -11,7 +11,7 @@
 #include <ostream>
 #include <utility>
 
-#include "common/state_rows.hpp"
+#include "cli/state_rows.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "util/state_csv.hpp"

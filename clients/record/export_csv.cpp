@@ -4,10 +4,10 @@
 #include <map>
 #include <ostream>
 
-#include "common/state_rows.hpp"
-#include "record/lcm_log.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
+#include "cli/state_rows.hpp"
+#include "common/lcm_log.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
 #include "util/atomic_file.hpp"
@@ -47,13 +47,13 @@ class CsvOut {
   std::string text_;
 };
 
-std::string damage_note(const records::Damage& d) {
+std::string damage_note(const common::Damage& d) {
   return "stopped at a damaged tail at offset " + std::to_string(d.offset) + " (" + d.reason +
          "), " + std::to_string(d.bytes) + " bytes not read";
 }
 
 Exported from_rigid_log(const RecordOptions& o) {
-  records::RecordReader reader(o.file);
+  common::RecordReader reader(o.file);
   CsvOut csv(o.csv);
   Exported e;
   clients::BodyNames names;
@@ -61,14 +61,14 @@ Exported from_rigid_log(const RecordOptions& o) {
   rigid::StateFrame frame;
   rigid::SceneDescription scene;
   while (reader.next(r)) {
-    if (r.has_header() && records::from_record(r.header().scene(), scene)) {
+    if (r.has_header() && common::from_record(r.header().scene(), scene)) {
       names = clients::BodyNames(scene);
-    } else if (r.has_scene() && records::from_record(r.scene(), scene)) {
+    } else if (r.has_scene() && common::from_record(r.scene(), scene)) {
       names = clients::BodyNames(scene);
     } else if (r.has_state()) {
-      if (!records::from_record(r.state(), frame)) {
-        throw records::LogFileError(o.file + ": record " + std::to_string(reader.records()) +
-                                    ": a state whose arrays disagree with its body count");
+      if (!common::from_record(r.state(), frame)) {
+        throw common::LogFileError(o.file + ": record " + std::to_string(reader.records()) +
+                                   ": a state whose arrays disagree with its body count");
       }
       csv.add(frame, names, e);
     }
@@ -91,8 +91,8 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
   // the first states).
   std::map<std::string, std::int64_t> seen;
   {
-    LcmLogReader reader(o.file);
-    LcmEvent event;
+    common::LcmLogReader reader(o.file);
+    common::LcmEvent event;
     while (reader.next(event))
       ++seen[event.channel];
   }
@@ -101,8 +101,8 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
   rigid::SceneDescription scene;
   clients::BodyNames names;
   {
-    LcmLogReader reader(o.file);
-    LcmEvent event;
+    common::LcmLogReader reader(o.file);
+    common::LcmEvent event;
     while (reader.next(event)) {
       if (event.channel == scene_channel &&
           codec.decode(event.data, scene) == transport::DecodeStatus::kOk) {
@@ -115,10 +115,10 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
     err << "rigid-record: export: no " << scene_channel << " in " << o.file
         << ": bodies are named by id\n";
   }
-  LcmLogReader reader(o.file);
+  common::LcmLogReader reader(o.file);
   CsvOut csv(o.csv);
   Exported e;
-  LcmEvent event;
+  common::LcmEvent event;
   rigid::StateFrame frame;
   std::int64_t undecodable = 0;
   while (reader.next(event)) {
@@ -142,42 +142,24 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
 
 std::string lcm_log_prefix(const RecordOptions& o,
                            const std::map<std::string, std::int64_t>& seen) {
-  using transport::Topic;
-  const auto state = [](const std::string& prefix) {
-    return transport::lcm_channel_names(prefix)[transport::index_of(Topic::kState)];
-  };
-  if (o.bus_prefix_given) return o.bus.prefix;
-  const std::string plain = state("");
-  if (seen.contains(plain)) return "";
-  std::vector<std::string> prefixes;
-  for (const auto& [channel, n] : seen) {
-    if (channel.size() > plain.size() + 1 && channel.ends_with("_" + plain)) {
-      prefixes.push_back(channel.substr(0, channel.size() - plain.size() - 1));
-    }
+  try {
+    return common::lcm_log_prefix(
+        o.file, o.bus_prefix_given ? std::optional<std::string>(o.bus.prefix) : std::nullopt, seen);
+  } catch (const common::SeveralPrefixes& e) {
+    throw clients::UsageError(e.what());
   }
-  if (prefixes.size() > 1) {
-    std::string list;
-    for (const std::string& p : prefixes)
-      list += (list.empty() ? "" : ", ") + p;
-    throw clients::UsageError(o.file + " holds the states of several prefixes (" + list +
-                              "): choose one with --prefix");
-  }
-  if (prefixes.empty()) {
-    throw records::LogFileError(o.file + ": no " + plain + " channel (of any prefix) in this log");
-  }
-  return prefixes.front();
 }
 
 void refuse_existing(const std::string& path, bool force) {
   if (!force && std::filesystem::exists(path)) {
-    throw records::LogFileError(path + " already exists (--force overwrites it)");
+    throw common::LogFileError(path + " already exists (--force overwrites it)");
   }
 }
 
 int export_csv(const RecordOptions& o, std::ostream& out, std::ostream& err) {
   try {
     refuse_existing(o.csv, o.force);
-    const bool lcm = records::looks_like_lcm_log(o.file);
+    const bool lcm = common::looks_like_lcm_log(o.file);
     const Exported e = lcm ? from_lcm_log(o, err) : from_rigid_log(o);
     out << o.csv << ": " << e.states << " states, " << e.rows << " rows from " << o.file
         << (lcm ? " (lcm-logger log)" : "") << '\n';

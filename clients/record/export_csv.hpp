@@ -18,11 +18,11 @@ int export_csv(const RecordOptions& options, std::ostream& out, std::ostream& er
 
 // The prefix of rigidd's channels in an LCM log whose channels (with their event counts) are
 // `seen`: --prefix's, else "" if the unprefixed state channel is there, else the one prefix the
-// log holds. Throws clients::UsageError (several prefixes) or records::LogFileError (none).
+// log holds. Throws clients::UsageError (several prefixes) or common::LogFileError (none).
 std::string lcm_log_prefix(const RecordOptions& options,
                            const std::map<std::string, std::int64_t>& seen);
 
-// Throws records::LogFileError if `path` exists and not `force` (export's outputs, like record's,
+// Throws common::LogFileError if `path` exists and not `force` (export's outputs, like record's,
 // are not overwritten unless asked).
 void refuse_existing(const std::string& path, bool force);
 

@@ -11,14 +11,14 @@
 #include <ostream>
 #include <set>
 
-#include "common/state_rows.hpp"
+#include "cli/state_rows.hpp"
+#include "common/lcm_log.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "foxglove/FrameTransforms.pb.h"
 #include "foxglove/SceneUpdate.pb.h"
 #include "record/export_csv.hpp"
-#include "record/lcm_log.hpp"
 #include "record/mcap_writer.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "rigid/client/names.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
@@ -206,7 +206,7 @@ class FoxgloveOut {
   explicit FoxgloveOut(const std::string& path)
       : file_(path),
         writer_([this](std::string_view bytes) { write_out(bytes); }, "",
-                records::software_version() + " rigid-record export --mcap") {
+                common::software_version() + " rigid-record export --mcap") {
     const auto schema = [&](const google::protobuf::Descriptor* d) {
       return writer_.add_schema(d->full_name(), "protobuf", descriptor_set(d));
     };
@@ -225,7 +225,7 @@ class FoxgloveOut {
   }
 
   void scene(const msgs::SceneRecord& r, std::uint64_t log_time) {
-    if (records::from_record(r, scene_desc_)) {
+    if (common::from_record(r, scene_desc_)) {
       names_ = clients::BodyNames(scene_desc_);
       state_ids_.clear();  // names by position are looked up again
       scene_dirty_ = true;
@@ -239,7 +239,7 @@ class FoxgloveOut {
         static_cast<std::size_t>(r.orientation_size()) != 4 * n ||
         static_cast<std::size_t>(r.linear_velocity_size()) != 3 * n ||
         static_cast<std::size_t>(r.angular_velocity_size()) != 3 * n) {
-      throw records::LogFileError(where + ": a state whose arrays disagree with its body count");
+      throw common::LogFileError(where + ": a state whose arrays disagree with its body count");
     }
     const std::uint64_t publish = r.stamp_ns() > 0 ? as_time(r.stamp_ns()) : log_time;
     if (scene_dirty_ || log_time >= last_scene_update_ + kSceneEvery) scene_update(log_time);
@@ -376,13 +376,13 @@ class FoxgloveOut {
   Summary summary_;
 };
 
-std::string damage_note(const records::Damage& d) {
+std::string damage_note(const common::Damage& d) {
   return "stopped at a damaged tail at offset " + std::to_string(d.offset) + " (" + d.reason +
          "), " + std::to_string(d.bytes) + " bytes not read";
 }
 
 Summary from_rigid_log(const RecordOptions& o) {
-  records::RecordReader reader(o.file);
+  common::RecordReader reader(o.file);
   msgs::LogRecord r;
   std::unique_ptr<FoxgloveOut> out;
   std::uint64_t start = 0;
@@ -391,7 +391,7 @@ Summary from_rigid_log(const RecordOptions& o) {
   while (reader.next(r)) {
     if (r.has_header()) {
       if (r.header().kind() == msgs::LogHeader::JOURNAL) {
-        throw records::LogFileError(
+        throw common::LogFileError(
             o.file +
             " is a journal (rigidd --journal): it holds accepted commands and state hashes, no "
             "states; replay it with rigid-sim --replay --csv, or record states with rigid-record "
@@ -414,9 +414,8 @@ Summary from_rigid_log(const RecordOptions& o) {
     }
   }
   if (!out || out->summary().states == 0) {
-    throw records::LogFileError(
-        o.file + ": no states to export" +
-        (reader.damage() ? " (" + damage_note(*reader.damage()) + ")" : ""));
+    throw common::LogFileError(o.file + ": no states to export" +
+                               (reader.damage() ? " (" + damage_note(*reader.damage()) + ")" : ""));
   }
   if (reader.damage()) out->summary().note = damage_note(*reader.damage());
   return out->commit();
@@ -425,8 +424,8 @@ Summary from_rigid_log(const RecordOptions& o) {
 Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
   std::map<std::string, std::int64_t> seen;
   {
-    LcmLogReader reader(o.file);
-    LcmEvent event;
+    common::LcmLogReader reader(o.file);
+    common::LcmEvent event;
     while (reader.next(event))
       ++seen[event.channel];
   }
@@ -437,14 +436,14 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
   const std::string& stats_channel = names[transport::index_of(Topic::kStats)];
   const std::string& accepted_channel = names[transport::index_of(Topic::kAccepted)];
   if (!seen.contains(state_channel)) {
-    throw records::LogFileError(o.file + ": no " + state_channel + " in this log");
+    throw common::LogFileError(o.file + ": no " + state_channel + " in this log");
   }
   transport::lcm::Codec codec;
   rigid::SceneDescription scene;
   bool have_scene = false;
   {  // The scene first (LCM sends it once a second, so it may come after the first states).
-    LcmLogReader reader(o.file);
-    LcmEvent event;
+    common::LcmLogReader reader(o.file);
+    common::LcmEvent event;
     while (!have_scene && reader.next(event)) {
       have_scene = event.channel == scene_channel &&
                    codec.decode(event.data, scene) == transport::DecodeStatus::kOk;
@@ -455,8 +454,8 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
         << ": bodies are named by id and have no shapes\n";
   }
   FoxgloveOut out(o.mcap);
-  LcmLogReader reader(o.file);
-  LcmEvent event;
+  common::LcmLogReader reader(o.file);
+  common::LcmEvent event;
   std::int64_t first_us = -1;
   std::int64_t undecodable = 0;
   rigid::StateFrame frame;
@@ -471,7 +470,7 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
     if (first_us < 0) {
       first_us = event.timestamp_us;
       if (have_scene) {
-        records::to_record(scene, 0, scene_record);
+        common::to_record(scene, 0, scene_record);
         out.scene(scene_record, as_time(event.timestamp_us) * 1000);
       }
     }
@@ -483,25 +482,25 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
     };
     if (event.channel == state_channel) {
       if (!ok(codec.decode(event.data, frame))) continue;
-      records::to_record(frame, recorded_ns, state_record);
+      common::to_record(frame, recorded_ns, state_record);
       out.state(state_record, t, o.file + ": event " + std::to_string(reader.events()));
     } else if (event.channel == stats_channel) {
       if (!ok(codec.decode(event.data, stats))) continue;
-      records::to_record(stats, recorded_ns, stats_record);
+      common::to_record(stats, recorded_ns, stats_record);
       out.stats(stats_record, t);
     } else if (event.channel == accepted_channel) {
       if (!ok(codec.decode(event.data, accepted))) continue;
-      records::to_record(accepted, recorded_ns, command_record);
+      common::to_record(accepted, recorded_ns, command_record);
       out.command(command_record, t);
     } else if (event.channel == scene_channel) {
       // rigidd repeats its scene once a second: only a change is a new scene.
       if (!ok(codec.decode(event.data, later_scene)) || later_scene == scene) continue;
       scene = later_scene;
-      records::to_record(scene, recorded_ns, scene_record);
+      common::to_record(scene, recorded_ns, scene_record);
       out.scene(scene_record, t);
     }
   }
-  if (out.summary().states == 0) throw records::LogFileError(o.file + ": no states to export");
+  if (out.summary().states == 0) throw common::LogFileError(o.file + ": no states to export");
   std::string note = reader.damage() ? damage_note(*reader.damage()) : "";
   if (undecodable > 0) {
     note += (note.empty() ? "" : "; ") + std::to_string(undecodable) +
@@ -516,7 +515,7 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
 int export_mcap(const RecordOptions& o, std::ostream& out, std::ostream& err) {
   try {
     refuse_existing(o.mcap, o.force);
-    const bool lcm = records::looks_like_lcm_log(o.file);
+    const bool lcm = common::looks_like_lcm_log(o.file);
     const Summary s = lcm ? from_lcm_log(o, err) : from_rigid_log(o);
     out << o.mcap << ": " << s.states << " states from " << o.file
         << (lcm ? " (lcm-logger log)" : "") << '\n';

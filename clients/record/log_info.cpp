@@ -6,9 +6,9 @@
 #include <map>
 #include <ostream>
 
-#include "common/cli.hpp"
-#include "record/lcm_log.hpp"
-#include "records/record_file.hpp"
+#include "cli/cli.hpp"
+#include "common/lcm_log.hpp"
+#include "common/record_file.hpp"
 
 namespace rigid::record {
 namespace {
@@ -28,17 +28,17 @@ std::string seconds(double s) {
   return buffer;
 }
 
-std::string damage_line(const records::Damage& d) {
+std::string damage_line(const common::Damage& d) {
   return "damaged tail at offset " + std::to_string(d.offset) + ": " + std::to_string(d.bytes) +
          " bytes not read (" + d.reason +
          "); everything before it is intact (a writer stopped mid-record leaves this)";
 }
 
 int lcm_info(const std::string& path, std::ostream& out) {
-  LcmLogReader reader(path);
+  common::LcmLogReader reader(path);
   std::map<std::string, std::int64_t> channels;
   std::int64_t first_us = 0, last_us = 0;
-  LcmEvent e;
+  common::LcmEvent e;
   while (reader.next(e)) {
     if (reader.events() == 1) first_us = e.timestamp_us;
     last_us = e.timestamp_us;
@@ -56,8 +56,8 @@ int lcm_info(const std::string& path, std::ostream& out) {
 
 int info(const std::string& path, std::ostream& out, std::ostream& err) {
   try {
-    if (records::looks_like_lcm_log(path)) return lcm_info(path, out);
-    records::RecordReader reader(path);
+    if (common::looks_like_lcm_log(path)) return lcm_info(path, out);
+    common::RecordReader reader(path);
     msgs::LogRecord r;
     struct Span {
       std::int64_t first = -1, last = -1;
@@ -112,7 +112,7 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
           break;
       }
     }
-    out << path << ": rigid log (format " << records::kLogFormatVersion << "), " << reader.size()
+    out << path << ": rigid log (format " << common::kLogFormatVersion << "), " << reader.size()
         << " bytes, " << reader.records() << " complete records\n";
     if (!header) {
       out << "no header record: not written by rigid-record or rigidd\n";
@@ -166,7 +166,7 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
              "record in it is complete\n";
     }
     return clients::kExitOk;
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }

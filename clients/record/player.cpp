@@ -7,9 +7,9 @@
 #include <ostream>
 #include <thread>
 
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "connect.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 
 namespace rigid::record {
 namespace {
@@ -27,7 +27,7 @@ std::int64_t unix_ns() {
 
 int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
   try {
-    records::RecordReader reader(o.file);
+    common::RecordReader reader(o.file);
     msgs::LogRecord r;
     if (!reader.next(r) || !r.has_header() || r.header().kind() != msgs::LogHeader::RECORDING) {
       err << "rigid-record: " << o.file
@@ -35,7 +35,7 @@ int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err
       return clients::kExitFailed;
     }
     rigid::SceneDescription scene;
-    records::from_record(r.header().scene(), scene);
+    common::from_record(r.header().scene(), scene);
     // The server's role: this stands in for rigidd (and hears no one: commands are ignored).
     transport::Receiver deaf;
     const std::unique_ptr<transport::Transport> bus =
@@ -50,11 +50,11 @@ int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err
     auto next_line = start;
     while (reader.next(r)) {
       if (r.has_scene()) {
-        records::from_record(r.scene(), scene);
+        common::from_record(r.scene(), scene);
         (void)bus->publish(scene);
         continue;
       }
-      if (!r.has_state() || !records::from_record(r.state(), frame)) continue;
+      if (!r.has_state() || !common::from_record(r.state(), frame)) continue;
       if (!first_ns) first_ns = r.state().recorded_ns();
       const auto due =
           start + std::chrono::nanoseconds(static_cast<std::int64_t>(
@@ -89,7 +89,7 @@ int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err
         << (reader.damage() ? " (up to its damaged tail: " + reader.damage()->reason + ")" : "")
         << (tty ? "\x1b[K\n" : "\n");
     return clients::kExitOk;
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   } catch (const client::BusError& e) {

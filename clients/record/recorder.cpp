@@ -14,8 +14,8 @@
 #include <ostream>
 #include <utility>
 
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "transport/lcm/lcm_transport.hpp"
@@ -110,11 +110,11 @@ std::string live_line(const std::string& path, double seconds, const Counts& c, 
 msgs::LogHeader header(const RecordOptions& o, const rigid::SceneDescription& scene) {
   msgs::LogHeader h;
   h.set_kind(msgs::LogHeader::RECORDING);
-  h.set_schema_version(records::kLogSchemaVersion);
-  h.set_software_version(records::software_version());
+  h.set_schema_version(common::kLogSchemaVersion);
+  h.set_software_version(common::software_version());
   h.set_writer("rigid-record");
   h.set_start_unix_ns(unix_ns());
-  records::to_record(scene, 0, *h.mutable_scene());
+  common::to_record(scene, 0, *h.mutable_scene());
   h.set_integrator(scene.integrator);
   h.set_rate_hz(scene.dt > 0 ? 1.0 / scene.dt : 0.0);
   const bool dds = o.bus.bus == rigid::Bus::kDds;
@@ -130,10 +130,10 @@ msgs::LogHeader header(const RecordOptions& o, const rigid::SceneDescription& sc
 
 int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
   // The file first: a name that cannot be used fails at once, not after the wait for rigidd.
-  std::optional<records::RecordWriter> file;
+  std::optional<common::RecordWriter> file;
   try {
     file.emplace(o.file, o.force);
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }
@@ -151,16 +151,15 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
   }
   session->on_each_state([&](const rigid::StateFrame& s) {
     queue.push(
-        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_state()); });
+        [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(s, t, *r.mutable_state()); });
   });
   session->on_each_stats([&](const rigid::StatsReport& s) {
     queue.push(
-        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_stats()); });
+        [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(s, t, *r.mutable_stats()); });
   });
   session->on_each_accepted([&](const rigid::AcceptedCommand& a) {
-    queue.push([&](msgs::LogRecord& r, std::int64_t t) {
-      records::to_record(a, t, *r.mutable_command());
-    });
+    queue.push(
+        [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(a, t, *r.mutable_command()); });
   });
   session->on_each_scene([&](const rigid::SceneDescription& s) {
     // LCM repeats the scene every second: keep it only when it changes.
@@ -170,7 +169,7 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
       last_scene = s;
     }
     queue.push(
-        [&](msgs::LogRecord& r, std::int64_t t) { records::to_record(s, t, *r.mutable_scene()); });
+        [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(s, t, *r.mutable_scene()); });
   });
 
   const auto scene = session->wait_scene(o.timeout);
@@ -233,7 +232,7 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
     end.mutable_end()->set_end_unix_ns(unix_ns());
     file->append(end);
     file->close();
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     err << (tty ? "\n" : "") << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "loop/wrench_table.hpp"
+#include "common/wrench_table.hpp"
 
 namespace rigid::view {
 
@@ -69,7 +69,7 @@ void DriftTracker::drive(std::int32_t body, std::int64_t tick, double ttl) {
   const auto it = index_.find(body);
   if (it == index_.end()) return;
   const std::int64_t ticks =
-      dt_ > 0 && ttl >= 0 && ttl / dt_ <= 1e12 ? loop::ticks_to_live(ttl, dt_) : 0;
+      dt_ > 0 && ttl >= 0 && ttl / dt_ <= 1e12 ? common::ticks_to_live(ttl, dt_) : 0;
   const double margin = dt_ > 0 ? std::ceil(kDrivenMargin / dt_) : 0;
   // Saturating: a ttl of "until replaced" (ticks_to_live's 0 for too long) or a huge one.
   const double until = static_cast<double>(tick) + static_cast<double>(ticks > 0 ? ticks : 0) +

@@ -21,8 +21,8 @@
 #include <tuple>
 #include <vector>
 
+#include "common/wrench_table.hpp"
 #include "drift.hpp"
-#include "loop/wrench_table.hpp"
 #include "playback_viewer.hpp"
 #include "protocol.hpp"
 #include "rigid/client/names.hpp"
@@ -162,7 +162,7 @@ class Viewer {
     for (auto it = wrenches_.begin(); it != wrenches_.end();) {
       const double ttl = it->second.ttl;
       const double ticks = dt > 0 && ttl >= 0 && ttl / dt <= 1e12
-                               ? static_cast<double>(loop::ticks_to_live(ttl, dt))
+                               ? static_cast<double>(common::ticks_to_live(ttl, dt))
                                : 1.0;
       const double from = static_cast<double>(it->second.tick), now = static_cast<double>(tick);
       // Kept a second of sim time past its last tick: the pages draw states older than this one

@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "loop/wrench_table.hpp"
+#include "common/wrench_table.hpp"
 
 namespace rigid::view {
 namespace {
@@ -21,12 +21,12 @@ bool before(const RecordedWrench& w, std::pair<std::uint32_t, std::int64_t> at) 
   return std::pair{w.stretch, w.command.tick} < at;
 }
 
-// rigidd's ticks for a ttl (loop::ticks_to_live); -1 when dt is not known, 0 for a ttl too long
+// rigidd's ticks for a ttl (common::ticks_to_live); -1 when dt is not known, 0 for a ttl too long
 // for any scene (a file's numbers are not trusted).
 std::int64_t ticks_of(double ttl, double dt) {
   if (!(std::isfinite(dt) && dt > 0)) return -1;
   if (!(ttl / dt <= kMaxTicksToLive)) return 0;
-  return loop::ticks_to_live(ttl, dt);
+  return common::ticks_to_live(ttl, dt);
 }
 
 }  // namespace

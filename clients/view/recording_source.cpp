@@ -5,17 +5,16 @@
 #include <map>
 #include <utility>
 
+#include "cli/cli.hpp"
+#include "common/lcm_log.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
+#include "common/replay.hpp"
+#include "common/state_conversion.hpp"
 #include "drift.hpp"
-#include "loop/state_conversion.hpp"
 #include "physics/world.hpp"
 #include "protocol.hpp"
-#include "record/export_csv.hpp"
-#include "record/lcm_log.hpp"
-#include "record/record_options.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "scene/scene.hpp"
-#include "sim/replay.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
 
@@ -28,7 +27,7 @@ std::string megabytes(std::size_t bytes) {
   return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
 }
 
-std::string damage_note(const records::Damage& d) {
+std::string damage_note(const common::Damage& d) {
   return "played up to a damaged tail at offset " + std::to_string(d.offset) + " (" + d.reason +
          "), " + std::to_string(d.bytes) + " bytes not read";
 }
@@ -144,14 +143,14 @@ class Builder {
 // A journal's commands, placed by its StateHash records (the states rigidd published, in the
 // order it journaled them with its commands: exactly the order of the replay's states).
 void journal_wrenches(const std::string& path, Builder& add, Recording& r) {
-  records::RecordReader reader(path);
+  common::RecordReader reader(path);
   msgs::LogRecord record;
   AcceptedCommand a;
   while (reader.next(record)) {
     if (record.has_state_hash()) {
       r.wrenches.state(record.state_hash().tick());
     } else if (record.has_command()) {
-      records::from_record(record.command(), a);
+      common::from_record(record.command(), a);
       add.command(a);
     }
   }
@@ -163,14 +162,14 @@ void journal_wrenches(const std::string& path, Builder& add, Recording& r) {
 SceneDescription journal_scene(const std::string& path, const msgs::LogHeader& h) {
   SceneDescription d;
   if (h.has_scene() && !h.scene().ids().empty()) {
-    if (!records::from_record(h.scene(), d))
+    if (!common::from_record(h.scene(), d))
       throw RecordingError(path + ": the header's scene has per-body arrays that disagree");
     return d;
   }
   if (h.scene_text().empty())
     throw RecordingError(path + ": a journal that holds no scene: nothing to draw");
   const scene::Scene s = scene::parse_scene(h.scene_text(), path + ":scene");
-  return loop::describe_scene(s, physics::World(s.world));
+  return common::describe_scene(s, physics::World(s.world));
 }
 
 // A journal holds the scene and the accepted commands, no states: rigid-sim's replay re-steps the
@@ -182,10 +181,10 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
   // rigid-record play needs states: a journal's come from rigid-sim.
   Builder add(r, limits, "write its states with `rigid-sim --replay " + r.path + " --csv OUT`",
               false);
-  sim::SimOptions o;
-  o.replay = r.path;
+  common::ReplayOptions o;
+  o.journal = r.path;
   StateFrame frame;  // the replay's frame is const; Builder clears the stamp of its own copy
-  sim::ReplayReport report;
+  common::ReplayReport report;
   try {
     add.scene(journal_scene(r.path, header));
     // The wrenches, each with the number of published states journaled before it: it drives its
@@ -198,7 +197,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
     };
     std::vector<Drive> drives;
     {
-      records::RecordReader reader(r.path);
+      common::RecordReader reader(r.path);
       msgs::LogRecord record;
       std::size_t hashes = 0;
       AcceptedCommand a;
@@ -206,7 +205,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
         if (record.has_state_hash()) {
           ++hashes;
         } else if (record.has_command()) {
-          records::from_record(record.command(), a);
+          common::from_record(record.command(), a);
           if (a.kind != AcceptedKind::kWrench) continue;
           if ((drives.size() + 1) * sizeof(Drive) > limits.max_bytes) {
             throw RecordingError(r.path + ": its wrenches need more than " +
@@ -218,7 +217,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
       }
     }
     std::size_t states = 0, next_drive = 0;
-    report = sim::replay(o, [&](const StateFrame& s) {
+    report = common::replay(o, [&](const StateFrame& s) {
       for (; next_drive < drives.size() && drives[next_drive].before_state <= states; ++next_drive)
         add.drive(drives[next_drive].body, drives[next_drive].tick, drives[next_drive].ttl);
       ++states;
@@ -238,7 +237,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
   for (const std::string& w : report.warnings)
     add_note(w);  // e.g. another build of rigidd: its states were verified all the same
   if (report.divergence) {
-    const sim::ReplayReport::Divergence& d = *report.divergence;
+    const common::ReplayReport::Divergence& d = *report.divergence;
     throw RecordingError(r.path + ": the replay does not reproduce it: DIVERGED at tick " +
                          std::to_string(d.tick) + " (" + d.what + ")" +
                          (r.note.empty() ? "" : "; " + r.note) +
@@ -257,7 +256,7 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
 }
 
 void from_rigid_log(Recording& r, const LoadLimits& limits) {
-  records::RecordReader reader(r.path);
+  common::RecordReader reader(r.path);
   msgs::LogRecord record;
   if (!reader.next(record) || !record.has_header()) {
     throw RecordingError(r.path + ": no header record" +
@@ -272,7 +271,7 @@ void from_rigid_log(Recording& r, const LoadLimits& limits) {
   r.kind = "rigid-record recording";
   Builder add(r, limits, play_elsewhere(r.path));
   SceneDescription scene;
-  if (!records::from_record(record.header().scene(), scene))
+  if (!common::from_record(record.header().scene(), scene))
     throw RecordingError(r.path + ": the header's scene has per-body arrays that disagree");
   add.scene(scene);
   StateFrame frame;
@@ -280,19 +279,19 @@ void from_rigid_log(Recording& r, const LoadLimits& limits) {
   AcceptedCommand accepted;
   while (reader.next(record)) {
     if (record.has_command()) {
-      records::from_record(record.command(), accepted);
+      common::from_record(record.command(), accepted);
       add.command(accepted);
     } else if (record.has_stats()) {
-      records::from_record(record.stats(), stats);
+      common::from_record(record.stats(), stats);
       add.stats(stats);
     } else if (record.has_scene()) {
-      if (!records::from_record(record.scene(), scene)) {
+      if (!common::from_record(record.scene(), scene)) {
         throw RecordingError(r.path + ": record " + std::to_string(reader.records()) +
                              ": a scene whose per-body arrays disagree");
       }
       add.scene(scene);
     } else if (record.has_state()) {
-      if (!records::from_record(record.state(), frame)) {
+      if (!common::from_record(record.state(), frame)) {
         throw RecordingError(r.path + ": record " + std::to_string(reader.records()) +
                              ": a state whose arrays disagree with its body count");
       }
@@ -310,8 +309,8 @@ void from_lcm_log(Recording& r, const LoadLimits& limits) {
       transport::lcm_channel_names("")[transport::index_of(transport::Topic::kState)];
   std::map<std::string, std::int64_t> seen;  // channel -> events
   {
-    record::LcmLogReader reader(r.path);
-    record::LcmEvent event;
+    common::LcmLogReader reader(r.path);
+    common::LcmEvent event;
     while (reader.next(event)) {
       if (!event.channel.ends_with(plain_state)) continue;
       if (!seen.contains(event.channel) && seen.size() >= kMaxPrefixes) {
@@ -321,19 +320,18 @@ void from_lcm_log(Recording& r, const LoadLimits& limits) {
       ++seen[event.channel];
     }
   }
-  record::RecordOptions o;
-  o.file = r.path;
-  o.bus.prefix = limits.lcm_prefix;
-  o.bus_prefix_given = limits.lcm_prefix_given;
-  const transport::TopicNames names = transport::lcm_channel_names(record::lcm_log_prefix(o, seen));
+  const transport::TopicNames names = transport::lcm_channel_names(common::lcm_log_prefix(
+      r.path,
+      limits.lcm_prefix_given ? std::optional<std::string>(limits.lcm_prefix) : std::nullopt,
+      seen));
   const std::string& state_channel = names[transport::index_of(transport::Topic::kState)];
   const std::string& scene_channel = names[transport::index_of(transport::Topic::kScene)];
   const std::string& stats_channel = names[transport::index_of(transport::Topic::kStats)];
   const std::string& accepted_channel = names[transport::index_of(transport::Topic::kAccepted)];
   transport::lcm::Codec codec;
   Builder add(r, limits, play_elsewhere(r.path));
-  record::LcmLogReader reader(r.path);
-  record::LcmEvent event;
+  common::LcmLogReader reader(r.path);
+  common::LcmEvent event;
   SceneDescription scene;
   StateFrame frame;
   StatsReport stats;
@@ -395,12 +393,12 @@ Recording load_recording(const std::string& path, const LoadLimits& limits) {
   Recording r;
   r.path = path;
   try {
-    if (records::looks_like_lcm_log(path)) {
+    if (common::looks_like_lcm_log(path)) {
       from_lcm_log(r, limits);
     } else {
       from_rigid_log(r, limits);
     }
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     throw RecordingError(e.what());
   } catch (const clients::UsageError& e) {
     throw RecordingError(e.what());

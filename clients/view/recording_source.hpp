@@ -1,6 +1,6 @@
 // rigid-view FILE: a recording loaded for the page, read with rigid-record's readers (a
-// rigid-record recording through records::RecordReader, an lcm-logger log through
-// record::LcmLogReader), or a journal of rigidd (rigidd --journal), which holds no states: they
+// rigid-record recording through common::RecordReader, an lcm-logger log through
+// common::LcmLogReader), or a journal of rigidd (rigidd --journal), which holds no states: they
 // are re-stepped by rigid-sim's replay (sim/replay.hpp) and only those whose hash matches the
 // journal's are kept, which are the states rigidd published. Every state is kept in memory already
 // encoded as the page's binary frame (protocol.hpp encode_state), so that playing and seeking cost

@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "common/cli.hpp"
+#include "cli/cli.hpp"
 
 namespace rigid::view {
 

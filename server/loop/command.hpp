@@ -9,10 +9,15 @@
 #include <string_view>
 #include <type_traits>
 
+#include "common/applied_command.hpp"
 #include "rigid/messages.hpp"
 #include "transport/decode_status.hpp"
 
 namespace rigid::loop {
+
+// What the loop applies (common/applied_command.hpp), named here as the loop always has.
+using common::Control;
+using common::Wrench;
 
 // Why a command was refused; mirrors rigid::RejectCounts (Stats.rejected).
 enum class RejectReason : std::uint8_t {
@@ -37,29 +42,6 @@ std::string_view to_string(RejectReason reason);
 struct Sender {
   std::uint64_t key = 0;
   char name[80] = {};  // printable: the identity, "dds:HANDLE" or "lcm:IP:PORT"
-};
-
-// A wrench (rigid::Wrench: force, point, frames, torque, ttl in s of simulated time) that passed
-// validation, on a body that is a valid id; its numbers are finite and within limits.
-struct Wrench : rigid::Wrench {
-  // With DDS Security, the identity that wrote it (a hash; 0 without): part of the key of the
-  // wrench table, so that no identity can replace another's wrenches.
-  std::uint64_t owner = 0;
-  std::int64_t source = 0;
-  std::int64_t seq = 0;
-  std::int32_t key = 0;
-  std::int32_t body = 0;
-  std::int64_t stamp_ns = 0;  // the sender's stamp (CLOCK_REALTIME), passed through
-};
-
-// A control request whose fields are well-formed (known command, steps > 0, finite rtf > 0).
-// Whether it is allowed now is the loop's decision.
-struct Control {
-  std::int64_t source = 0;
-  std::int64_t seq = 0;
-  rigid::ControlKind kind = rigid::ControlKind::kNone;
-  std::int64_t steps = 0;
-  double rtf = 0.0;
 };
 
 struct Command {

@@ -45,7 +45,7 @@ Sender sender_of(rigid::Bus bus, const transport::Origin& origin) {
       if (s.name[i] < 0x20 || s.name[i] >= 0x7f) s.name[i] = '?';
     return s;
   }
-  s.key = mix64(origin.session ^ (bus == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  s.key = util::mix64(origin.session ^ (bus == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
   if (bus == rigid::Bus::kDds) {
     std::snprintf(s.name, sizeof s.name, "dds:%016llx",
                   static_cast<unsigned long long>(origin.session));
@@ -142,8 +142,8 @@ void Intake::on_wrench(const rigid::WrenchCommand& wrench, const transport::Orig
   command.sender = sender;
   command.wrench = checked.value;
   command.wrench.owner = owner_of(origin);
-  command.session_key = mix64(origin.session ^ command.wrench.owner ^
-                              (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.session_key = util::mix64(origin.session ^ command.wrench.owner ^
+                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
   if (!enqueue(command)) {
     char detail[200];
     std::snprintf(detail, sizeof detail,
@@ -197,8 +197,8 @@ void Intake::on_control(const rigid::ControlCommand& control, const transport::O
   command.kind = Command::Kind::kControl;
   command.bus = bus_;
   command.sender = sender;
-  command.session_key = mix64(origin.session ^ owner_of(origin) ^
-                              (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.session_key = util::mix64(origin.session ^ owner_of(origin) ^
+                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
   command.control = checked.value;
   if (!enqueue(command)) {
     rejects_.recordf(RejectReason::kQueueFull, &sender,

@@ -2,8 +2,8 @@
 
 #include <chrono>
 
+#include "common/log_records.hpp"
 #include "loop/clock.hpp"
-#include "records/log_records.hpp"
 #include "util/thread_name.hpp"
 
 namespace rigid::loop {
@@ -16,7 +16,7 @@ Journal::Journal(const Options& options, const msgs::LogHeader& header, Log& log
       queue_(options.capacity),
       start_ns_(monotonic_ns()) {
   if (path_.empty()) return;
-  file_ = std::make_unique<records::RecordWriter>(path_, /*overwrite=*/false);
+  file_ = std::make_unique<common::RecordWriter>(path_, /*overwrite=*/false);
   *record_.mutable_header() = header;
   append(record_);
   file_->flush();
@@ -59,20 +59,20 @@ void Journal::drain() {
     gaps_seen_ = dropped;
     gap_pending_ = true;
   }
-  JournalEntry entry;
+  common::JournalEntry entry;
   while (queue_.try_pop(entry))
     write(entry);
   if (file_) {
     try {
       file_->flush();
-    } catch (const records::LogFileError& e) {
+    } catch (const common::LogFileError& e) {
       log_.line(std::string("journal: ") + e.what() + "; the journal stops here");
       file_.reset();
     }
   }
 }
 
-void Journal::write(const JournalEntry& entry) {
+void Journal::write(const common::JournalEntry& entry) {
   if (gap_pending_) {
     msgs::JournalGap* gap = record_.mutable_gap();
     gap->set_dropped(gaps_seen_);
@@ -81,17 +81,17 @@ void Journal::write(const JournalEntry& entry) {
     gap_pending_ = false;
   }
   last_tick_ = entry.tick;
-  if (entry.kind == JournalEntry::Kind::kStateHash) {
+  if (entry.kind == common::JournalEntry::Kind::kStateHash) {
     msgs::StateHash* hash = record_.mutable_state_hash();
     hash->set_tick(entry.tick);
     hash->set_hash(entry.hash);
     append(record_);
     return;
   }
-  const rigid::AcceptedCommand accepted = accepted_command(entry);
+  const rigid::AcceptedCommand accepted = common::accepted_command(entry);
   if (on_command_) on_command_(accepted);
   if (file_) {
-    records::to_record(accepted, monotonic_ns() - start_ns_, *record_.mutable_command());
+    common::to_record(accepted, monotonic_ns() - start_ns_, *record_.mutable_command());
     append(record_);
   }
 }
@@ -101,7 +101,7 @@ void Journal::append(const msgs::LogRecord& record) {
   try {
     file_->append(record);
     records_.store(file_->records(), std::memory_order_relaxed);
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     log_.line(std::string("journal: ") + e.what() + "; the journal stops here");
     file_.reset();
   }
@@ -126,7 +126,7 @@ void Journal::close_file() {
     file_->close();
     log_.line("journal: " + path_ + ": " + std::to_string(file_->records()) + " records, " +
               std::to_string(dropped()) + " entries lost");
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     log_.line(std::string("journal: ") + e.what());
   }
   file_.reset();

@@ -17,10 +17,10 @@
 #include <string>
 #include <thread>
 
+#include "common/journal_entry.hpp"
+#include "common/record_file.hpp"
 #include "loop/bounded_queue.hpp"
-#include "loop/journal_entry.hpp"
 #include "loop/log.hpp"
-#include "records/record_file.hpp"
 #include "rigid.pb.h"
 
 namespace rigid::loop {
@@ -46,7 +46,7 @@ class Journal {
   void stop();
 
   // Loop thread.
-  void push(const JournalEntry& entry) {
+  void push(const common::JournalEntry& entry) {
     if (!queue_.try_push(entry)) dropped_.fetch_add(1, std::memory_order_relaxed);
   }
 
@@ -60,15 +60,15 @@ class Journal {
  private:
   void run();
   void drain();
-  void write(const JournalEntry& entry);
+  void write(const common::JournalEntry& entry);
   void append(const msgs::LogRecord& record);
   void close_file();
 
   Log& log_;
   CommandSink on_command_;
   std::string path_;
-  std::unique_ptr<records::RecordWriter> file_;  // writer thread only, after start()
-  BoundedQueue<JournalEntry> queue_;
+  std::unique_ptr<common::RecordWriter> file_;  // writer thread only, after start()
+  BoundedQueue<common::JournalEntry> queue_;
   std::int64_t start_ns_ = 0;
   std::int64_t gaps_seen_ = 0;  // drops already recorded as a gap (writer thread)
   bool gap_pending_ = false;    // a loss noticed, its gap not written yet (writer thread)

@@ -7,10 +7,10 @@
 #include <span>
 #include <stdexcept>
 
+#include "common/state_conversion.hpp"
+#include "common/state_hash.hpp"
 #include "loop/clock.hpp"
 #include "loop/intake.hpp"
-#include "loop/state_conversion.hpp"
-#include "loop/state_hash.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -47,7 +47,7 @@ Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
       summaries_(LoopSummary{}),
       frozen_events_(static_cast<std::size_t>(driven_.world().body_count())),
       frozen_reported_(static_cast<std::size_t>(driven_.world().body_count()), 0) {
-  if (!config_.output_lends_frames) shape_state_frame(driven_.world(), frame_);
+  if (!config_.output_lends_frames) common::shape_state_frame(driven_.world(), frame_);
   paused_ = config_.mode == Mode::kLockstep;
 }
 
@@ -210,7 +210,7 @@ void Loop::handle(const Command& c) {
 // source it writes.
 static std::int64_t sequence_key(const Command& c, std::int64_t source) {
   return static_cast<std::int64_t>(
-      mix64(c.session_key ^ mix64(static_cast<std::uint64_t>(source))));
+      util::mix64(c.session_key ^ util::mix64(static_cast<std::uint64_t>(source))));
 }
 
 void Loop::refuse_wrench(const Command& c, RejectReason reason, const char* detail) {
@@ -236,26 +236,26 @@ void Loop::handle_wrench(const Command& c) {
     return;
   }
   switch (driven_.apply(w, c.sender.key, config_.wrench_share)) {
-    case WrenchTable::Upsert::kFull:
+    case common::WrenchTable::Upsert::kFull:
       std::snprintf(detail, sizeof detail,
                     "wrench table full (%zu live wrenches, none held beyond a fair share): wrench "
                     "from %s seq %lld dropped",
                     driven_.wrench_capacity(), c.sender.name, static_cast<long long>(w.seq));
       refuse_wrench(c, RejectReason::kQueueFull, detail);
       return;
-    case WrenchTable::Upsert::kOverShare:
+    case common::WrenchTable::Upsert::kOverShare:
       std::snprintf(detail, sizeof detail,
                     "wrench from %s seq %lld: the sender already holds its %zu live wrenches "
                     "(limits.max_wrenches_per_source)",
                     c.sender.name, static_cast<long long>(w.seq), config_.wrench_share);
       refuse_wrench(c, RejectReason::kOverShare, detail);
       return;
-    case WrenchTable::Upsert::kInserted:
-    case WrenchTable::Upsert::kReplaced:
+    case common::WrenchTable::Upsert::kInserted:
+    case common::WrenchTable::Upsert::kReplaced:
       break;
   }
-  JournalEntry entry;
-  entry.kind = JournalEntry::Kind::kWrench;
+  common::JournalEntry entry;
+  entry.kind = common::JournalEntry::Kind::kWrench;
   entry.tick = driven_.tick();
   entry.wrench = w;
   output_.journal(entry);
@@ -270,8 +270,8 @@ void Loop::answer(const Command& c, Outcome outcome, ReplyNote note, std::int64_
 }
 
 void Loop::journal_control(const Control& k) {
-  JournalEntry entry;
-  entry.kind = JournalEntry::Kind::kControl;
+  common::JournalEntry entry;
+  entry.kind = common::JournalEntry::Kind::kControl;
   entry.tick = driven_.tick();
   entry.control = k;
   output_.journal(entry);
@@ -404,18 +404,19 @@ void Loop::publish_state(bool paced) {
     throw std::logic_error("Loop: the output was to lend the state frames and lent none");
   }
   rigid::StateFrame& frame = lent != nullptr ? *lent : frame_;
-  fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt, frame);
+  common::fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * config_.tick_dt,
+                           frame);
   // The hash before the hand-over, after which the frame may hold another state's values.
   const bool hash = config_.hash_states && tick != hashed_tick_;
-  const std::uint64_t h = hash ? state_hash(frame) : 0;
+  const std::uint64_t h = hash ? common::state_hash(frame) : 0;
   if (lent != nullptr) {
     output_.hand_over_lent(first_arrival_ns_);
   } else {
     output_.hand_over_state(frame_, first_arrival_ns_);
   }
   if (hash) {
-    JournalEntry entry;
-    entry.kind = JournalEntry::Kind::kStateHash;
+    common::JournalEntry entry;
+    entry.kind = common::JournalEntry::Kind::kStateHash;
     entry.tick = tick;
     entry.hash = h;
     output_.journal(entry);

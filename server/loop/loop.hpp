@@ -26,10 +26,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/driven_world.hpp"
 #include "loop/bounded_queue.hpp"
 #include "loop/command.hpp"
 #include "loop/doorbell.hpp"
-#include "loop/driven_world.hpp"
 #include "loop/fixed_rate_schedule.hpp"
 #include "loop/outbox.hpp"
 #include "loop/reject_counters.hpp"
@@ -132,7 +132,7 @@ class Loop {
   void note_frozen_bodies();
 
   const LoopConfig config_;
-  DrivenWorld driven_;  // the world, its acting wrenches and the tick counter
+  common::DrivenWorld driven_;  // the world, its acting wrenches and the tick counter
   BoundedQueue<Command>& commands_;
   Doorbell& doorbell_;
   RejectCounters& rejects_;

@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
+#include "common/journal_entry.hpp"
 #include "loop/command.hpp"
-#include "loop/journal_entry.hpp"
 #include "rigid/messages.hpp"
 
 namespace rigid::loop {
@@ -35,8 +35,8 @@ class LoopOutput : public ReplySink {
   // A frame to write the next state into in place, for a loop configured with
   // LoopConfig::output_lends_frames (the server: a free slot of the frames its buses read,
   // shared_states.hpp), so that the loop keeps no state frame of its own. It has the shape
-  // shape_state_frame gives and stale values; it goes out with hand_over_lent, the next call.
-  // By default none: an output that lends must override both.
+  // common::shape_state_frame gives and stale values; it goes out with hand_over_lent, the next
+  // call. By default none: an output that lends must override both.
   virtual rigid::StateFrame* lend_frame() { return nullptr; }
   virtual void hand_over_lent(std::int64_t /*command_arrival_ns*/) {}
   // Waits until every bus has taken the last state offered, so that the next offer replaces
@@ -46,7 +46,7 @@ class LoopOutput : public ReplySink {
   virtual bool wait_states_taken(std::int64_t /*deadline_ns*/) { return true; }
   // A command carried out, or a published state's hash, in the loop's order (journal_entry.hpp).
   // By default dropped: only the server keeps a journal.
-  virtual void journal(const JournalEntry& /*entry*/) {}
+  virtual void journal(const common::JournalEntry& /*entry*/) {}
 };
 
 }  // namespace rigid::loop

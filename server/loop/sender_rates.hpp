@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "loop/fixed_map.hpp"
+#include "util/fixed_map.hpp"
 
 namespace rigid::loop {
 
@@ -24,13 +24,13 @@ class SenderRates {
     std::int64_t last_ns = 0;
   };
   struct Hash {
-    std::uint64_t operator()(std::uint64_t key) const { return mix64(key); }
+    std::uint64_t operator()(std::uint64_t key) const { return util::mix64(key); }
   };
   void evict_least_recent();
 
   double rate_per_ns_;
   double burst_;
-  FixedMap<std::uint64_t, Bucket, Hash> buckets_;
+  util::FixedMap<std::uint64_t, Bucket, Hash> buckets_;
 };
 
 }  // namespace rigid::loop

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "loop/fixed_map.hpp"
+#include "util/fixed_map.hpp"
 
 namespace rigid::loop {
 
@@ -28,12 +28,12 @@ class SequenceTable {
   };
   struct Hash {
     std::uint64_t operator()(std::int64_t source) const {
-      return mix64(static_cast<std::uint64_t>(source));
+      return util::mix64(static_cast<std::uint64_t>(source));
     }
   };
   void evict_least_recent();
 
-  FixedMap<std::int64_t, Entry, Hash> map_;
+  util::FixedMap<std::int64_t, Entry, Hash> map_;
   std::uint64_t use_counter_ = 0;
 };
 

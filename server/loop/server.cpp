@@ -8,9 +8,9 @@
 #include <cstring>
 #include <span>
 
+#include "common/log_records.hpp"
+#include "common/state_conversion.hpp"
 #include "loop/clock.hpp"
-#include "loop/state_conversion.hpp"
-#include "records/log_records.hpp"
 #include "rigid/names.hpp"
 #include "util/cpu_affinity.hpp"
 #include "util/thread_name.hpp"
@@ -46,11 +46,11 @@ msgs::LogHeader journal_header(const scene::Scene& scene, const ServerOptions& o
                                const rigid::SceneDescription& info) {
   msgs::LogHeader h;
   h.set_kind(msgs::LogHeader::JOURNAL);
-  h.set_schema_version(records::kLogSchemaVersion);
-  h.set_software_version(records::software_version());
+  h.set_schema_version(common::kLogSchemaVersion);
+  h.set_software_version(common::software_version());
   h.set_writer("rigidd");
   h.set_start_unix_ns(realtime_ns());
-  records::to_record(info, 0, *h.mutable_scene());
+  common::to_record(info, 0, *h.mutable_scene());
   h.set_integrator(info.integrator);
   h.set_rate_hz(scene.rate_hz);
   h.set_scene_text(options.scene_text);
@@ -112,9 +112,9 @@ Server::Server(const scene::Scene& scene, const ServerOptions& options, Log& log
       lcm_intake_(rigid::Bus::kLcm, validator_, intake_policy(scene, options), commands_, doorbell_,
                   rejects_, *this),
       loop_(scene.world, loop_config(scene, options), commands_, doorbell_, rejects_, *this) {
-  scene_info_ = describe_scene(scene, loop_.world());
+  scene_info_ = common::describe_scene(scene, loop_.world());
   rigid::StateFrame shape;
-  shape_state_frame(loop_.world(), shape);
+  common::shape_state_frame(loop_.world(), shape);
   states_ = std::make_unique<SharedStates>(shape);
   Journal::Options journal;
   journal.path = options.journal_path;

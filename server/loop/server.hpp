@@ -103,7 +103,7 @@ class Server final : private LoopOutput {
   void hand_over_lent(std::int64_t command_arrival_ns) override;
   bool wait_states_taken(std::int64_t deadline_ns) override;
   void reply(const Reply& reply) override;
-  void journal(const JournalEntry& entry) override { journal_->push(entry); }
+  void journal(const common::JournalEntry& entry) override { journal_->push(entry); }
   void publish_accepted(const rigid::AcceptedCommand& accepted);
   void housekeeping();
   // Logs each body the loop found frozen for the first time (housekeeping and stop).

@@ -1,13 +1,13 @@
 // rigid-sim: runs a scene in batch (no real time, no network) and reports drift and cost, or
 // replays a journal. Wiring only: the work is in sim_options (command line), sim_run (run and
-// report) and replay (--replay).
+// report) and the replay (common/replay.hpp, --replay).
 #include <exception>
 #include <iostream>
 #include <string_view>
 #include <vector>
 
+#include "common/replay.hpp"
 #include "scene/scene.hpp"
-#include "sim/replay.hpp"
 #include "sim/sim_options.hpp"
 #include "sim/sim_run.hpp"
 
@@ -25,10 +25,11 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (options.replay) {
-      const sim::ReplayReport report = sim::replay(options);
+      const common::ReplayReport report =
+          common::replay({*options.replay, options.scene, options.csv});
       for (const std::string& w : report.warnings)
         std::cerr << "rigid-sim: warning: " << w << '\n';
-      sim::print_replay(std::cout, report);
+      common::print_replay(std::cout, report);
       return report.exit_status();
     }
     const scene::Scene scene = scene::load_scene(options.scene);
@@ -38,6 +39,9 @@ int main(int argc, char** argv) {
     sim::print_summary(std::cout, summary);
     return 0;
   } catch (const sim::UsageError& e) {
+    std::cerr << "rigid-sim: " << e.what() << '\n';
+    return 2;
+  } catch (const common::SceneMismatch& e) {
     std::cerr << "rigid-sim: " << e.what() << '\n';
     return 2;
   } catch (const scene::SceneError& e) {

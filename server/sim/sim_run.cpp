@@ -10,7 +10,7 @@
 #include <optional>
 #include <ostream>
 
-#include "sim/state_csv.hpp"
+#include "common/world_csv.hpp"
 #include "util/atomic_file.hpp"
 
 namespace rigid::sim {
@@ -102,7 +102,7 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
     r.csv = *options.csv;
     buffer.reserve(kCsvChunk + 4096);
     buffer += util::kStateCsvHeader;
-    append_state_rows(world, buffer);
+    common::append_state_rows(world, buffer);
     r.csv_rows += world.body_count();
   }
 
@@ -119,7 +119,7 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
     r.step_seconds += seconds_since(t0);
     done += n;
     if (csv) {
-      append_state_rows(world, buffer);
+      common::append_state_rows(world, buffer);
       r.csv_rows += world.body_count();
       if (buffer.size() >= kCsvChunk) {
         csv->write(buffer);

@@ -59,6 +59,8 @@ struct Field {
     return element.*member;
   }
 };
+template <class Member>
+Field(Member) -> Field<Member>;  // clang before 17 deduces no aggregate's arguments
 
 // Storage that encoding to DDS needs where a plain value cannot be lent as it is (strings as fixed
 // char arrays, enumerations as int32): one buffer per such column of a message, grown when a

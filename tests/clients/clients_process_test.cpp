@@ -23,9 +23,9 @@
 #include <thread>
 
 #include "bus_client.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "physics/math.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "rigidd_process.hpp"
 #include "test_dir.hpp"
 
@@ -272,14 +272,14 @@ TEST(RigidRecord, ARecordingOfNSecondsHoldsTheExpectedStates) {
       << r.err;
   EXPECT_GE(seconds, 2.0) << r.err;
 
-  records::RecordReader reader(out);
+  common::RecordReader reader(out);
   msgs::LogRecord rec;
   ASSERT_TRUE(reader.next(rec));
   ASSERT_TRUE(rec.has_header());
   const msgs::LogHeader h = rec.header();
   EXPECT_EQ(h.kind(), msgs::LogHeader::RECORDING);
-  EXPECT_EQ(h.schema_version(), records::kLogSchemaVersion);
-  EXPECT_EQ(h.software_version(), records::software_version());
+  EXPECT_EQ(h.schema_version(), common::kLogSchemaVersion);
+  EXPECT_EQ(h.software_version(), common::software_version());
   EXPECT_EQ(h.integrator(), "hybrid4");  // the default
   EXPECT_DOUBLE_EQ(h.rate_hz(), 1000.0);
   EXPECT_EQ(h.scene().names_size(), 5);
@@ -462,7 +462,7 @@ TEST(RigidRecord, ARecorderKilledMidWriteLeavesAFileReadableUpToItsLastCompleteR
   std::vector<std::uint64_t> starts;
   int complete = 0;
   {
-    records::RecordReader reader(out);
+    common::RecordReader reader(out);
     msgs::LogRecord rec;
     starts.push_back(reader.offset());
     while (reader.next(rec)) {
@@ -518,7 +518,7 @@ TEST(RigidRecord, ExportMatchesTheStatesASubscriberSawAndAcceptedCommandsAreReco
   // The push, as rigidd accepted it, is in the recording.
   int commands = 0;
   {
-    records::RecordReader reader(out);
+    common::RecordReader reader(out);
     msgs::LogRecord rec;
     while (reader.next(rec)) {
       if (!rec.has_command()) continue;

@@ -18,12 +18,12 @@
 #include <thread>
 
 #include "allocation_counter.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
+#include "common/replay.hpp"
 #include "loop/log.hpp"
 #include "loop/loop.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "scene/scene.hpp"
-#include "sim/replay.hpp"
 #include "test_dir.hpp"
 
 namespace rigid::loop {
@@ -49,7 +49,7 @@ class JournalOutput final : public LoopOutput {
   explicit JournalOutput(Journal& journal) : journal_(journal) {}
   void offer_state(const rigid::StateFrame&, std::int64_t) override {}
   void reply(const Reply&) override {}
-  void journal(const JournalEntry& e) override { journal_.push(e); }
+  void journal(const common::JournalEntry& e) override { journal_.push(e); }
 
  private:
   Journal& journal_;
@@ -58,8 +58,8 @@ class JournalOutput final : public LoopOutput {
 msgs::LogHeader header(const scene::Scene& s) {
   msgs::LogHeader h;
   h.set_kind(msgs::LogHeader::JOURNAL);
-  h.set_schema_version(records::kLogSchemaVersion);
-  h.set_software_version(records::software_version());
+  h.set_schema_version(common::kLogSchemaVersion);
+  h.set_software_version(common::software_version());
   h.set_writer("journal_test");
   h.set_rate_hz(s.rate_hz);
   h.set_scene_text(kScene);
@@ -146,14 +146,14 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
   return result;
 }
 
-sim::ReplayReport replay(const std::string& path) {
-  sim::SimOptions o;
-  o.replay = path;
-  return sim::replay(o);
+common::ReplayReport replay(const std::string& path) {
+  common::ReplayOptions o;
+  o.journal = path;
+  return common::replay(o);
 }
 
 std::vector<msgs::LogRecord> read_all(const std::string& path) {
-  records::RecordReader reader(path);
+  common::RecordReader reader(path);
   std::vector<msgs::LogRecord> records;
   msgs::LogRecord r;
   while (reader.next(r))
@@ -162,7 +162,7 @@ std::vector<msgs::LogRecord> read_all(const std::string& path) {
 }
 
 void write_all(const std::string& path, const std::vector<msgs::LogRecord>& records) {
-  records::RecordWriter w(path, true);
+  common::RecordWriter w(path, true);
   for (const msgs::LogRecord& r : records)
     w.append(r);
   w.close();
@@ -200,7 +200,7 @@ TEST_F(JournalReplay, JournalingAllocatesNothingOnTheLoopThread) {
 }
 
 TEST_F(JournalReplay, TheReplayReproducesEveryJournaledStateBitForBit) {
-  const sim::ReplayReport r = replay(path_);
+  const common::ReplayReport r = replay(path_);
   EXPECT_EQ(r.exit_status(), 0) << (r.divergence ? r.divergence->what : "");
   EXPECT_FALSE(r.divergence);
   EXPECT_FALSE(r.gap);
@@ -248,7 +248,7 @@ TEST_F(JournalReplay, AChangedCommandIsADivergenceAtTheFirstStateItReaches) {
   const std::int64_t tick = c.tick();
   const std::string path = file("changed.rlog");
   write_all(path, records);
-  const sim::ReplayReport r = replay(path);
+  const common::ReplayReport r = replay(path);
   EXPECT_EQ(r.exit_status(), 3);
   ASSERT_TRUE(r.divergence);
   EXPECT_EQ(r.divergence->tick, expected) << "the wrench took effect at tick " << tick;
@@ -265,7 +265,7 @@ TEST_F(JournalReplay, AGapStopsTheReplayThere) {
   records.insert(records.begin() + static_cast<std::ptrdiff_t>(at), gap);
   const std::string path = file("gap.rlog");
   write_all(path, records);
-  const sim::ReplayReport r = replay(path);
+  const common::ReplayReport r = replay(path);
   EXPECT_EQ(r.exit_status(), 4);
   ASSERT_TRUE(r.gap);
   EXPECT_EQ(r.gap->dropped, 5);
@@ -278,7 +278,7 @@ TEST_F(JournalReplay, ADamagedTailIsReplayedUpToTheDamage) {
   // a frame boundary would leave a shorter, undamaged journal.
   std::uint64_t cut = 0;
   {
-    records::RecordReader reader(path_);
+    common::RecordReader reader(path_);
     msgs::LogRecord rec;
     while (reader.offset() < full.size() * 2 / 3 && reader.next(rec)) {
     }
@@ -287,7 +287,7 @@ TEST_F(JournalReplay, ADamagedTailIsReplayedUpToTheDamage) {
   ASSERT_LT(cut, full.size());
   const std::string path = file("cut.rlog");
   sim::testing::write_file(path, full.substr(0, cut));
-  const sim::ReplayReport r = replay(path);
+  const common::ReplayReport r = replay(path);
   EXPECT_EQ(r.exit_status(), 0);
   EXPECT_FALSE(r.damage.empty());
   EXPECT_FALSE(r.closed_cleanly);
@@ -297,14 +297,14 @@ TEST_F(JournalReplay, ADamagedTailIsReplayedUpToTheDamage) {
 TEST_F(JournalReplay, TheJournalHoldsItsSceneAndAnotherSceneIsRefused) {
   const std::string other = file("other.pbtxt");
   sim::testing::write_file(other, "body { name: \"x\" mass: 1 }\n");
-  sim::SimOptions o;
-  o.replay = path_;
+  common::ReplayOptions o;
+  o.journal = path_;
   o.scene = other;
-  EXPECT_THROW(sim::replay(o), sim::UsageError);
+  EXPECT_THROW(common::replay(o), common::SceneMismatch);
   const std::string same = file("same.pbtxt");
   sim::testing::write_file(same, kScene);
   o.scene = same;
-  EXPECT_EQ(sim::replay(o).exit_status(), 0);
+  EXPECT_EQ(common::replay(o).exit_status(), 0);
 }
 
 }  // namespace

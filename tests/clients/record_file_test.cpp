@@ -2,7 +2,7 @@
 // written, and the crash-safety promise: a file cut at any byte reads back every complete record
 // and reports the rest as a damaged tail; a corrupted byte is caught by the checksum. Also the
 // state hash, and the lcm-logger reader on a log written here byte by byte.
-#include "records/record_file.hpp"
+#include "common/record_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "loop/state_hash.hpp"
-#include "record/lcm_log.hpp"
-#include "records/crc32c.hpp"
-#include "records/log_records.hpp"
+#include "common/crc32c.hpp"
+#include "common/lcm_log.hpp"
+#include "common/log_records.hpp"
+#include "common/state_hash.hpp"
 #include "test_dir.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 namespace {
 
 using sim::testing::read_file;
@@ -30,14 +30,14 @@ std::span<const std::uint8_t> bytes(const std::string& s) {
 
 TEST(Crc32c, MatchesTheStandardCheckValues) {
   // The CRC-32C catalogue's check value, and RFC 3720's (iSCSI) test vectors.
-  EXPECT_EQ(records::crc32c(bytes("123456789")), 0xE3069283u);
-  EXPECT_EQ(records::crc32c(bytes(std::string(32, '\0'))), 0x8A9136AAu);
-  EXPECT_EQ(records::crc32c(bytes(std::string(32, '\xff'))), 0x62A8AB43u);
+  EXPECT_EQ(common::crc32c(bytes("123456789")), 0xE3069283u);
+  EXPECT_EQ(common::crc32c(bytes(std::string(32, '\0'))), 0x8A9136AAu);
+  EXPECT_EQ(common::crc32c(bytes(std::string(32, '\xff'))), 0x62A8AB43u);
   std::string ascending(32, '\0');
   for (int i = 0; i < 32; ++i)
     ascending[static_cast<std::size_t>(i)] = static_cast<char>(i);
-  EXPECT_EQ(records::crc32c(bytes(ascending)), 0x46DD794Eu);
-  EXPECT_EQ(records::crc32c({}), 0u);
+  EXPECT_EQ(common::crc32c(bytes(ascending)), 0x46DD794Eu);
+  EXPECT_EQ(common::crc32c({}), 0u);
 }
 
 TEST(Crc32c, ExtendingARunningCrcEqualsOnePass) {
@@ -46,7 +46,7 @@ TEST(Crc32c, ExtendingARunningCrcEqualsOnePass) {
     text += static_cast<char>(i * 7 + 3);
   for (std::size_t cut : {0u, 1u, 7u, 8u, 9u, 500u, 999u, 1000u}) {
     const std::string a = text.substr(0, cut), b = text.substr(cut);
-    EXPECT_EQ(records::crc32c(bytes(b), records::crc32c(bytes(a))), records::crc32c(bytes(text)))
+    EXPECT_EQ(common::crc32c(bytes(b), common::crc32c(bytes(a))), common::crc32c(bytes(text)))
         << cut;
   }
 }
@@ -71,15 +71,15 @@ rigid::StateFrame sample_state(std::int64_t tick, std::size_t bodies) {
 // Writes `n` state records after the header; returns the byte offset where each record starts
 // (and, last, the end of the file).
 std::vector<std::uint64_t> write_states(const std::string& path, int n) {
-  records::RecordWriter w(path, false);
+  common::RecordWriter w(path, false);
   std::vector<std::uint64_t> starts{w.bytes()};
   msgs::LogRecord r;
   r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
-  r.mutable_header()->set_software_version(records::software_version());
+  r.mutable_header()->set_software_version(common::software_version());
   w.append(r);
   starts.push_back(w.bytes());
   for (int i = 0; i < n; ++i) {
-    records::to_record(sample_state(i, 3), i * 1000, *r.mutable_state());
+    common::to_record(sample_state(i, 3), i * 1000, *r.mutable_state());
     w.append(r);
     starts.push_back(w.bytes());
   }
@@ -87,8 +87,8 @@ std::vector<std::uint64_t> write_states(const std::string& path, int n) {
   return starts;
 }
 
-int count_records(const std::string& path, std::optional<records::Damage>* damage = nullptr) {
-  records::RecordReader reader(path);
+int count_records(const std::string& path, std::optional<common::Damage>* damage = nullptr) {
+  common::RecordReader reader(path);
   msgs::LogRecord r;
   int n = 0;
   while (reader.next(r))
@@ -101,15 +101,15 @@ TEST(RecordFile, RecordsComeBackExactlyAsWritten) {
   TestDir dir;
   const std::string path = dir.file("a.rlog");
   write_states(path, 20);
-  records::RecordReader reader(path);
+  common::RecordReader reader(path);
   msgs::LogRecord r;
   ASSERT_TRUE(reader.next(r));
   ASSERT_TRUE(r.has_header());
-  EXPECT_EQ(r.header().software_version(), records::software_version());
+  EXPECT_EQ(r.header().software_version(), common::software_version());
   for (int i = 0; i < 20; ++i) {
     ASSERT_TRUE(reader.next(r)) << i;
     rigid::StateFrame f;
-    ASSERT_TRUE(records::from_record(r.state(), f));
+    ASSERT_TRUE(common::from_record(r.state(), f));
     EXPECT_EQ(f, sample_state(i, 3));
     EXPECT_EQ(r.state().recorded_ns(), i * 1000);
   }
@@ -141,12 +141,12 @@ TEST(RecordFile, StatsRecordsKeepEveryField) {
   s.dds = {22, 23, 24, 25};
   s.lcm = {26, 27, 28, 29};
   msgs::StatsRecord record;
-  records::to_record(s, 30, record);
+  common::to_record(s, 30, record);
   msgs::StatsRecord parsed;
   ASSERT_TRUE(parsed.ParseFromString(record.SerializeAsString()));
   EXPECT_EQ(parsed.recorded_ns(), 30);
   rigid::StatsReport back;
-  records::from_record(parsed, back);
+  common::from_record(parsed, back);
   EXPECT_EQ(back, s);
 }
 
@@ -158,9 +158,9 @@ TEST(RecordFile, AFileCutAtAnyByteReadsEveryCompleteRecordAndReportsTheTail) {
   const std::string full = read_file(path);
   ASSERT_EQ(full.size(), starts.back());
   const std::string cut = dir.file("cut.rlog");
-  for (std::uint64_t size = records::kLogPreambleBytes; size <= full.size(); ++size) {
+  for (std::uint64_t size = common::kLogPreambleBytes; size <= full.size(); ++size) {
     write_file(cut, full.substr(0, size));
-    std::optional<records::Damage> damage;
+    std::optional<common::Damage> damage;
     const int n = count_records(cut, &damage);
     // The records that fit entirely in `size` bytes.
     int complete = 0;
@@ -190,7 +190,7 @@ TEST(RecordFile, ACorruptedByteIsCaughtByTheChecksum) {
     std::string bad = good;
     bad[at] = static_cast<char>(bad[at] ^ 0x10);
     write_file(path, bad);
-    std::optional<records::Damage> damage;
+    std::optional<common::Damage> damage;
     EXPECT_EQ(count_records(path, &damage), 3) << "byte " << at;
     ASSERT_TRUE(damage);
     EXPECT_EQ(damage->offset, starts[3]);
@@ -202,13 +202,13 @@ TEST(RecordFile, AnExistingFileIsRefusedUnlessOverwriting) {
   const std::string path = dir.file("a.rlog");
   write_file(path, "precious");
   try {
-    records::RecordWriter w(path, false);
+    common::RecordWriter w(path, false);
     FAIL() << "overwrote an existing file";
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     EXPECT_EQ(std::string(e.what()), path + ": exists (remove it or choose another name)");
   }
   EXPECT_EQ(read_file(path), "precious");
-  records::RecordWriter w(path, true);
+  common::RecordWriter w(path, true);
   w.close();
   EXPECT_EQ(count_records(path), 0);
 }
@@ -217,22 +217,22 @@ TEST(RecordFile, NotALogFileIsRefusedWithOneLine) {
   TestDir dir;
   const std::string path = dir.file("a.txt");
   write_file(path, "hello, world");
-  EXPECT_THROW(records::RecordReader{path}, records::LogFileError);
+  EXPECT_THROW(common::RecordReader{path}, common::LogFileError);
   write_file(path, std::string("\xED\xA1\xDA\x01", 4) + std::string(40, '\0'));
   try {
-    records::RecordReader reader(path);
+    common::RecordReader reader(path);
     FAIL();
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     EXPECT_NE(std::string(e.what()).find("lcm-logger"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(records::RecordReader{dir.file("missing")}, records::LogFileError);
+  EXPECT_THROW(common::RecordReader{dir.file("missing")}, common::LogFileError);
   std::string future = "RIGIDLOG";
   future += std::string("\x02\0\0\0", 4);
   write_file(path, future);
   try {
-    records::RecordReader reader(path);
+    common::RecordReader reader(path);
     FAIL();
-  } catch (const records::LogFileError& e) {
+  } catch (const common::LogFileError& e) {
     EXPECT_NE(std::string(e.what()).find("version 2"), std::string::npos) << e.what();
   }
 }
@@ -282,8 +282,8 @@ TEST(LcmLog, EventsComeBackAndACutTailIsReported) {
                           lcm_event(2, 3000, "RIGID_STATE", "");
   write_file(path, log);
   {
-    record::LcmLogReader reader(path);
-    record::LcmEvent e;
+    common::LcmLogReader reader(path);
+    common::LcmEvent e;
     ASSERT_TRUE(reader.next(e));
     EXPECT_EQ(e.number, 0);
     EXPECT_EQ(e.timestamp_us, 1000);
@@ -298,8 +298,8 @@ TEST(LcmLog, EventsComeBackAndACutTailIsReported) {
     EXPECT_FALSE(reader.damage());
   }
   write_file(path, log.substr(0, log.size() - 40));
-  record::LcmLogReader reader(path);
-  record::LcmEvent e;
+  common::LcmLogReader reader(path);
+  common::LcmEvent e;
   int n = 0;
   while (reader.next(e))
     ++n;
@@ -309,4 +309,4 @@ TEST(LcmLog, EventsComeBackAndACutTailIsReported) {
 }
 
 }  // namespace
-}  // namespace rigid::loop
+}  // namespace rigid::common

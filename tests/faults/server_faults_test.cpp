@@ -12,10 +12,10 @@
 #include <sstream>
 #include <string>
 
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "fault_rig.hpp"
 #include "physics/math.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "test_dir.hpp"
 
 namespace rigid::faults::testing {

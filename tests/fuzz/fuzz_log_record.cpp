@@ -1,15 +1,15 @@
 // libFuzzer target: any bytes as the payload of one frame, i.e. a serialized rigid.msgs.LogRecord
 // (fuzz_record_file rarely gets past the checksums to here). A payload that parses goes through
-// record_checks.hpp, then is written with records::RecordWriter and read back with RecordReader:
+// record_checks.hpp, then is written with common::RecordWriter and read back with RecordReader:
 // the same record must come back, alone and undamaged.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
+#include "common/record_file.hpp"
 #include "fuzz_require.hpp"
 #include "memory_file.hpp"
 #include "record_checks.hpp"
-#include "records/record_file.hpp"
 
 using rigid::fuzz::require;
 
@@ -28,11 +28,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   const rigid::fuzz::MemoryFile file(nullptr, 0);
   {
-    rigid::records::RecordWriter writer(file.path(), /*overwrite=*/true);
+    rigid::common::RecordWriter writer(file.path(), /*overwrite=*/true);
     writer.append(record);
     writer.close();
   }
-  rigid::records::RecordReader reader(file.path());
+  rigid::common::RecordReader reader(file.path());
   rigid::msgs::LogRecord back;
   require(reader.next(back), "a written record reads back");
   require(back.SerializeAsString() == record.SerializeAsString(), "it reads back unchanged");

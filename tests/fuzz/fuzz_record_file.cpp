@@ -1,4 +1,4 @@
-// libFuzzer target: any bytes as a log file (recording or journal) read by records::RecordReader,
+// libFuzzer target: any bytes as a log file (recording or journal) read by common::RecordReader,
 // as rigid-record info/export/play and rigid-sim --replay read them. The reader must refuse the
 // file with a LogFileError or read records until the end or a damaged tail, never crash; its
 // offsets must add up (every byte is either read or reported as damaged); and each record that
@@ -8,10 +8,10 @@
 #include <cstdint>
 #include <optional>
 
+#include "common/record_file.hpp"
 #include "fuzz_require.hpp"
 #include "memory_file.hpp"
 #include "record_checks.hpp"
-#include "records/record_file.hpp"
 
 using rigid::fuzz::require;
 
@@ -22,14 +22,14 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const rigid::fuzz::MemoryFile file(data, size);
-  std::optional<rigid::records::RecordReader> reader;
+  std::optional<rigid::common::RecordReader> reader;
   try {
     reader.emplace(file.path());
-  } catch (const rigid::records::LogFileError&) {
+  } catch (const rigid::common::LogFileError&) {
     return 0;
   }
-  require(size >= rigid::records::kLogPreambleBytes, "an accepted file holds its preamble");
-  require(reader->size() == size && reader->offset() == rigid::records::kLogPreambleBytes,
+  require(size >= rigid::common::kLogPreambleBytes, "an accepted file holds its preamble");
+  require(reader->size() == size && reader->offset() == rigid::common::kLogPreambleBytes,
           "the reader starts after the preamble");
 
   rigid::msgs::LogRecord record;
@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::int64_t records = 0;
   while (reader->next(record)) {
     require(
-        reader->offset() >= offset + rigid::records::kFrameHeaderBytes && reader->offset() <= size,
+        reader->offset() >= offset + rigid::common::kFrameHeaderBytes && reader->offset() <= size,
         "each record moves the reader on, within the file");
     offset = reader->offset();
     ++records;

@@ -8,8 +8,8 @@
 #include <string>
 #include <type_traits>
 
+#include "common/log_records.hpp"
 #include "fuzz_require.hpp"
-#include "records/log_records.hpp"
 #include "rigid.pb.h"
 
 namespace rigid::fuzz {
@@ -24,21 +24,21 @@ template <class Plain, class Record>
 void check_conversion(const Record& in) {
   Plain plain;
   // from_record refuses (false) records whose per-body arrays disagree: the tools skip them.
-  if constexpr (std::is_same_v<decltype(records::from_record(in, plain)), bool>) {
-    if (!records::from_record(in, plain)) return;
+  if constexpr (std::is_same_v<decltype(common::from_record(in, plain)), bool>) {
+    if (!common::from_record(in, plain)) return;
   } else {
-    records::from_record(in, plain);
+    common::from_record(in, plain);
   }
   Record back;
-  records::to_record(plain, in.recorded_ns(), back);
+  common::to_record(plain, in.recorded_ns(), back);
   Plain again;
-  if constexpr (std::is_same_v<decltype(records::from_record(back, again)), bool>) {
-    require(records::from_record(back, again), "a record written from a message reads back");
+  if constexpr (std::is_same_v<decltype(common::from_record(back, again)), bool>) {
+    require(common::from_record(back, again), "a record written from a message reads back");
   } else {
-    records::from_record(back, again);
+    common::from_record(back, again);
   }
   Record twice;
-  records::to_record(again, in.recorded_ns(), twice);
+  common::to_record(again, in.recorded_ns(), twice);
   require(back.SerializeAsString() == twice.SerializeAsString(),
           "converting a record to a message and back is stable");
 }

@@ -15,8 +15,8 @@
 #include <string_view>
 #include <vector>
 
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
 #include "transport/dds/dds_cdr_codec.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 
@@ -186,29 +186,29 @@ std::vector<msgs::LogRecord> records() {
   msgs::LogRecord r;
   msgs::LogHeader& h = *r.mutable_header();
   h.set_kind(msgs::LogHeader::RECORDING);
-  h.set_schema_version(records::kLogSchemaVersion);
+  h.set_schema_version(common::kLogSchemaVersion);
   h.set_software_version("rigid 0.1.0");
   h.set_writer("rigid-record");
   h.set_start_unix_ns(1'700'000'000'000'000'000);
-  records::to_record(scene(), 0, *h.mutable_scene());
+  common::to_record(scene(), 0, *h.mutable_scene());
   h.set_integrator("exact_rotor4");
   h.set_rate_hz(1000.0);
   h.set_transport("dds");
   out.push_back(r);
   r.Clear();
-  records::to_record(scene(), 1'000'000, *r.mutable_scene());
+  common::to_record(scene(), 1'000'000, *r.mutable_scene());
   out.push_back(r);
   r.Clear();
-  records::to_record(state(), 2'000'000, *r.mutable_state());
+  common::to_record(state(), 2'000'000, *r.mutable_state());
   out.push_back(r);
   r.Clear();
-  records::to_record(stats(), 3'000'000, *r.mutable_stats());
+  common::to_record(stats(), 3'000'000, *r.mutable_stats());
   out.push_back(r);
   r.Clear();
-  records::to_record(accepted_wrench(), 4'000'000, *r.mutable_command());
+  common::to_record(accepted_wrench(), 4'000'000, *r.mutable_command());
   out.push_back(r);
   r.Clear();
-  records::to_record(accepted_control(), 5'000'000, *r.mutable_command());
+  common::to_record(accepted_control(), 5'000'000, *r.mutable_command());
   out.push_back(r);
   r.Clear();
   r.mutable_state_hash()->set_tick(1010);
@@ -239,7 +239,7 @@ void write_logs(const fs::path& dir) {
   fs::create_directories(dir / "record_file");
   const fs::path whole = dir / "record_file" / "recording.rlog";
   {
-    records::RecordWriter writer(whole.string(), /*overwrite=*/true);
+    common::RecordWriter writer(whole.string(), /*overwrite=*/true);
     for (const msgs::LogRecord& r : all)
       writer.append(r);
     writer.close();
@@ -249,7 +249,7 @@ void write_logs(const fs::path& dir) {
   write(dir / "record_file" / "cut_short.rlog",
         std::string_view(bytes).substr(0, bytes.size() / 2));
   const fs::path empty = dir / "record_file" / "preamble_only.rlog";
-  records::RecordWriter(empty.string(), /*overwrite=*/true).close();
+  common::RecordWriter(empty.string(), /*overwrite=*/true).close();
 }
 
 }  // namespace

@@ -2,8 +2,9 @@
 // constant loads on some bodies, driven tick by tick by wrenches that start, replace each other
 // and expire on a third of the bodies (the way controllers push in rigidd), gives bit-identical
 // published states, by the journal's state hash, for 1, 2, 3 and 8 threads. The physics-level
-// test (tests/physics/threads_test.cpp) drives World directly; this one goes through DrivenWorld,
-// the wrench table and the state frame, which rigidd and rigid-sim --replay share.
+// test (tests/physics/threads_test.cpp) drives World directly; this one goes through
+// common::DrivenWorld, the wrench table and the state frame, which rigidd and rigid-sim --replay
+// share.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,9 +12,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "loop/driven_world.hpp"
-#include "loop/state_conversion.hpp"
-#include "loop/state_hash.hpp"
+#include "common/driven_world.hpp"
+#include "common/state_conversion.hpp"
+#include "common/state_hash.hpp"
 
 namespace rigid::loop {
 namespace {
@@ -57,10 +58,11 @@ WorldSpec scene(int threads, int bodies = kBodies) {
 // Runs `ticks` ticks; every 5 ticks a new round of wrenches (a third of the bodies, each wrench
 // with its own ttl, so that some expire between rounds). The state hash after every tick, folded.
 std::uint64_t run(int threads, int ticks, int bodies = kBodies) {
-  DrivenWorld driven(scene(threads, bodies), kTickDt, 1, std::max<std::size_t>(4096, bodies));
+  common::DrivenWorld driven(scene(threads, bodies), kTickDt, 1,
+                             std::max<std::size_t>(4096, bodies));
   EXPECT_EQ(driven.world().threads(), threads);
   rigid::StateFrame frame;
-  shape_state_frame(driven.world(), frame);
+  common::shape_state_frame(driven.world(), frame);
   std::uint64_t folded = 0;
   for (int t = 0; t < ticks; ++t) {
     if (t % 5 == 0) {
@@ -75,12 +77,12 @@ std::uint64_t run(int threads, int ticks, int bodies = kBodies) {
         w.force_frame = body % 2 == 0 ? rigid::Frame::kWorld : rigid::Frame::kBody;
         if (body % 4 == 1) w.torque = {0.0, 0.2, -0.1};
         w.ttl = 1e-3 * (body % 8);
-        EXPECT_NE(driven.apply(w), WrenchTable::Upsert::kFull);
+        EXPECT_NE(driven.apply(w), common::WrenchTable::Upsert::kFull);
       }
     }
     driven.step_tick();
-    fill_state_frame(driven.world(), driven.tick(), driven.world().time(), frame);
-    folded = folded * 1099511628211ull ^ state_hash(frame);
+    common::fill_state_frame(driven.world(), driven.tick(), driven.world().time(), frame);
+    folded = folded * 1099511628211ull ^ common::state_hash(frame);
   }
   return folded;
 }
@@ -91,7 +93,7 @@ TEST(DrivenWorldThreads, PublishedStatesAreBitIdenticalFor1To8Threads) {
     EXPECT_EQ(run(threads, 60), one) << threads << " threads";
   }
   // A run that differs in one wrench differs in its hash: the comparison can fail.
-  DrivenWorld a(scene(2), kTickDt, 1, 16), b(scene(2), kTickDt, 1, 16);
+  common::DrivenWorld a(scene(2), kTickDt, 1, 16), b(scene(2), kTickDt, 1, 16);
   Wrench w;
   w.body = 17;
   w.force = {1, 0, 0};
@@ -99,11 +101,11 @@ TEST(DrivenWorldThreads, PublishedStatesAreBitIdenticalFor1To8Threads) {
   a.step_tick();
   b.step_tick();
   rigid::StateFrame fa, fb;
-  shape_state_frame(a.world(), fa);
-  shape_state_frame(b.world(), fb);
-  fill_state_frame(a.world(), 1, a.world().time(), fa);
-  fill_state_frame(b.world(), 1, b.world().time(), fb);
-  EXPECT_NE(state_hash(fa), state_hash(fb));
+  common::shape_state_frame(a.world(), fa);
+  common::shape_state_frame(b.world(), fb);
+  common::fill_state_frame(a.world(), 1, a.world().time(), fa);
+  common::fill_state_frame(b.world(), 1, b.world().time(), fb);
+  EXPECT_NE(common::state_hash(fa), common::state_hash(fb));
 }
 
 // A world large enough that its state frames are written on the world's threads too

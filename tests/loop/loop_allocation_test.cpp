@@ -34,7 +34,7 @@ class PublishingRecorder : public testing::Recorder {
  public:
   PublishingRecorder(SharedStates& states, Publisher& a, Publisher& b)
       : states_(states), a_(a), b_(b) {}
-  void journal(const JournalEntry& e) override {
+  void journal(const common::JournalEntry& e) override {
     if (journal_ != nullptr) journal_->push(e);
   }
   void attach(Journal* j) { journal_ = j; }

@@ -1,6 +1,6 @@
 // Physics state -> StateFrame (flat per-body arrays in id order, quaternion w first, everything in
 // W), and the scene -> SceneDescription.
-#include "loop/state_conversion.hpp"
+#include "common/state_conversion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,10 +25,10 @@ TEST(StateConversion, FrameHoldsEveryBodyInIdOrder) {
   physics::World world(s.world);
   world.step(3);
   rigid::StateFrame frame;
-  shape_state_frame(world, frame);
+  common::shape_state_frame(world, frame);
   ASSERT_TRUE(frame.lengths_agree());
   EXPECT_EQ(frame.ids, (std::vector<std::int32_t>{0, 1}));
-  fill_state_frame(world, 42, 0.042, frame);
+  common::fill_state_frame(world, 42, 0.042, frame);
   EXPECT_EQ(frame.tick, 42);
   EXPECT_EQ(frame.sim_time, 0.042);
   for (int i = 0; i < 2; ++i) {
@@ -52,11 +52,11 @@ TEST(StateConversion, RefillingAFrameDoesNotReallocate) {
   const scene::Scene s = test_scene();
   physics::World world(s.world);
   rigid::StateFrame frame;
-  shape_state_frame(world, frame);
+  common::shape_state_frame(world, frame);
   const double* data = frame.position.data();
   for (int k = 0; k < 10; ++k) {
     world.step();
-    fill_state_frame(world, k, k * 1e-3, frame);
+    common::fill_state_frame(world, k, k * 1e-3, frame);
   }
   EXPECT_EQ(frame.position.data(), data);
 }
@@ -64,7 +64,7 @@ TEST(StateConversion, RefillingAFrameDoesNotReallocate) {
 TEST(StateConversion, SceneDescription) {
   const scene::Scene s = test_scene();
   physics::World world(s.world);
-  const rigid::SceneDescription d = describe_scene(s, world);
+  const rigid::SceneDescription d = common::describe_scene(s, world);
   ASSERT_TRUE(d.lengths_agree());
   EXPECT_EQ(d.scene_name, "test.pbtxt");
   EXPECT_DOUBLE_EQ(d.dt, 1.0 / 500);
@@ -92,7 +92,7 @@ body { name: "plain" mass: 1 inertia { x: 1 y: 1 z: 1 } }
 )",
                                             "shapes.pbtxt");
   physics::World world(s.world);
-  const rigid::SceneDescription d = describe_scene(s, world);
+  const rigid::SceneDescription d = common::describe_scene(s, world);
   ASSERT_TRUE(d.lengths_agree());
   using K = rigid::ShapeKind;
   EXPECT_EQ(d.shape_kinds, (std::vector<K>{K::kSphere, K::kBox, K::kCylinder, K::kCapsule,

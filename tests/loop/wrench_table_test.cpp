@@ -1,5 +1,5 @@
 // The wrench table: replace by (source, body, key), expiry by time to live, capacity, order.
-#include "loop/wrench_table.hpp"
+#include "common/wrench_table.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,18 +16,21 @@ Wrench wrench(std::int64_t source, std::int32_t body, std::int32_t key, double f
 }
 
 TEST(TicksToLive, RoundsUpButForgivesRoundOff) {
-  EXPECT_EQ(ticks_to_live(0.0, 1e-3), 1);    // 0: this tick only
-  EXPECT_EQ(ticks_to_live(0.2, 1e-3), 200);  // 0.2 / 0.001 = 200.00000000000003
-  EXPECT_EQ(ticks_to_live(0.0015, 1e-3), 2);
-  EXPECT_EQ(ticks_to_live(1e-9, 1e-3), 1);
-  EXPECT_EQ(ticks_to_live(60.0, 1.0 / 240), 14400);
+  EXPECT_EQ(common::ticks_to_live(0.0, 1e-3), 1);    // 0: this tick only
+  EXPECT_EQ(common::ticks_to_live(0.2, 1e-3), 200);  // 0.2 / 0.001 = 200.00000000000003
+  EXPECT_EQ(common::ticks_to_live(0.0015, 1e-3), 2);
+  EXPECT_EQ(common::ticks_to_live(1e-9, 1e-3), 1);
+  EXPECT_EQ(common::ticks_to_live(60.0, 1.0 / 240), 14400);
 }
 
 TEST(WrenchTable, SameKeyReplacesInPlace) {
-  WrenchTable t(8);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 2.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 3.0), 0, SIZE_MAX, 20), WrenchTable::Upsert::kReplaced);
+  common::WrenchTable t(8);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 10),
+            common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 2.0), 0, SIZE_MAX, 10),
+            common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 3.0), 0, SIZE_MAX, 20),
+            common::WrenchTable::Upsert::kReplaced);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t.active()[0].wrench.force[0], 3.0);  // kept its place
   EXPECT_EQ(t.active()[0].expires_at_tick, 20);
@@ -35,7 +38,7 @@ TEST(WrenchTable, SameKeyReplacesInPlace) {
 }
 
 TEST(WrenchTable, DifferentSourceBodyOrKeyAreDifferentEntries) {
-  WrenchTable t(8);
+  common::WrenchTable t(8);
   t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 10);
   t.upsert(wrench(1, 1, 0, 1.0), 0, SIZE_MAX, 10);
   t.upsert(wrench(1, 0, 1, 1.0), 0, SIZE_MAX, 10);
@@ -44,7 +47,7 @@ TEST(WrenchTable, DifferentSourceBodyOrKeyAreDifferentEntries) {
 }
 
 TEST(WrenchTable, EntriesExpireWhenTheTickReachesTheirEnd) {
-  WrenchTable t(8);
+  common::WrenchTable t(8);
   t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 3);
   t.upsert(wrench(2, 0, 0, 2.0), 0, SIZE_MAX, 5);
   t.upsert(wrench(3, 0, 0, 3.0), 0, SIZE_MAX, 4);
@@ -54,34 +57,38 @@ TEST(WrenchTable, EntriesExpireWhenTheTickReachesTheirEnd) {
   // Survivors keep their order, and stay findable after moving.
   EXPECT_EQ(t.active()[0].wrench.source, 2);
   EXPECT_EQ(t.active()[1].wrench.source, 3);
-  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 30.0), 0, SIZE_MAX, 9), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 30.0), 0, SIZE_MAX, 9),
+            common::WrenchTable::Upsert::kReplaced);
   EXPECT_EQ(t.active()[1].wrench.force[0], 30.0);
   EXPECT_EQ(t.expire(100), 2u);
   EXPECT_EQ(t.size(), 0u);
 }
 
 TEST(WrenchTable, FullTableRefusesNewKeysButAcceptsReplacements) {
-  WrenchTable t(3);
+  common::WrenchTable t(3);
   for (int k = 0; k < 3; ++k)
-    EXPECT_EQ(t.upsert(wrench(1, 0, k, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kFull);
+    EXPECT_EQ(t.upsert(wrench(1, 0, k, 1.0), 0, SIZE_MAX, 10),
+              common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 10), common::WrenchTable::Upsert::kFull);
   EXPECT_EQ(t.size(), 3u);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 1, 5.0), 0, SIZE_MAX, 10), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 1, 5.0), 0, SIZE_MAX, 10),
+            common::WrenchTable::Upsert::kReplaced);
   t.expire(10);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 20), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 3, 1.0), 0, SIZE_MAX, 20),
+            common::WrenchTable::Upsert::kInserted);
 }
 
 TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
   // Many inserts, replacements and expiries: every live key is found exactly once.
-  WrenchTable t(64);
+  common::WrenchTable t(64);
   std::int64_t tick = 0;
   for (int round = 0; round < 2000; ++round) {
     const int key = (round * 7919) % 97;
     t.upsert(wrench(key % 5, key % 3, key, round), 0, SIZE_MAX, tick + 1 + round % 13);
     if (round % 3 == 0) t.expire(++tick);
-    for (const ActiveWrench& e : t.active()) {
+    for (const common::ActiveWrench& e : t.active()) {
       int same = 0;
-      for (const ActiveWrench& f : t.active())
+      for (const common::ActiveWrench& f : t.active())
         same += f.wrench.source == e.wrench.source && f.wrench.body == e.wrench.body &&
                 f.wrench.key == e.wrench.key;
       ASSERT_EQ(same, 1);
@@ -89,44 +96,44 @@ TEST(WrenchTable, ChurnKeepsTheIndexConsistent) {
   }
   t.clear();
   EXPECT_EQ(t.size(), 0u);
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 1), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 1.0), 0, SIZE_MAX, 1), common::WrenchTable::Upsert::kInserted);
 }
 
 TEST(WrenchTable, EachSenderHoldsAtMostItsShareAndANewcomerAlwaysGetsIn) {
-  WrenchTable t(8);
+  common::WrenchTable t(8);
   // Sender 1 floods with distinct keys: it gets its share of 5, no more.
   int accepted = 0;
   for (int key = 0; key < 20; ++key) {
-    const WrenchTable::Upsert u = t.upsert(wrench(1, 0, key, 1.0), 1, 5, 100);
-    if (u == WrenchTable::Upsert::kInserted) ++accepted;
+    const common::WrenchTable::Upsert u = t.upsert(wrench(1, 0, key, 1.0), 1, 5, 100);
+    if (u == common::WrenchTable::Upsert::kInserted) ++accepted;
     if (key >= 5) {
-      EXPECT_EQ(u, WrenchTable::Upsert::kOverShare);
+      EXPECT_EQ(u, common::WrenchTable::Upsert::kOverShare);
     }
   }
   EXPECT_EQ(accepted, 5);
   EXPECT_EQ(t.held_by(1), 5u);
   // Replacing one of its own keys is always allowed.
-  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 2.0), 1, 5, 100), WrenchTable::Upsert::kReplaced);
+  EXPECT_EQ(t.upsert(wrench(1, 0, 0, 2.0), 1, 5, 100), common::WrenchTable::Upsert::kReplaced);
   // Senders 2 and 3 fill the table (8 entries: 5 + 3).
-  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(2, 0, 1, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(2, 0, 1, 1.0), 2, 5, 100), common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), common::WrenchTable::Upsert::kInserted);
   EXPECT_EQ(t.size(), 8u);
   // A newcomer takes the oldest entry of the sender holding the most (1), not a refusal.
-  EXPECT_EQ(t.upsert(wrench(4, 0, 0, 1.0), 4, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(wrench(4, 0, 0, 1.0), 4, 5, 100), common::WrenchTable::Upsert::kInserted);
   EXPECT_EQ(t.held_by(1), 4u);
   EXPECT_EQ(t.held_by(4), 1u);
   EXPECT_EQ(t.size(), 8u);
   // The evicted one was sender 1's oldest (key 0, replaced above but first in arrival order).
   bool key0 = false;
-  for (const ActiveWrench& e : t.active())
+  for (const common::ActiveWrench& e : t.active())
     key0 = key0 || (e.sender == 1 && e.wrench.key == 0);
   EXPECT_FALSE(key0);
   // When every sender holds about as many, the table is full for real.
-  WrenchTable even(2);
-  EXPECT_EQ(even.upsert(wrench(1, 0, 0, 1.0), 1, 5, 100), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(even.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(even.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), WrenchTable::Upsert::kFull);
+  common::WrenchTable even(2);
+  EXPECT_EQ(even.upsert(wrench(1, 0, 0, 1.0), 1, 5, 100), common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(even.upsert(wrench(2, 0, 0, 1.0), 2, 5, 100), common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(even.upsert(wrench(3, 0, 0, 1.0), 3, 5, 100), common::WrenchTable::Upsert::kFull);
   // Expiry gives the share back.
   t.expire(100);
   EXPECT_EQ(t.size(), 0u);
@@ -134,13 +141,13 @@ TEST(WrenchTable, EachSenderHoldsAtMostItsShareAndANewcomerAlwaysGetsIn) {
 }
 
 TEST(WrenchTable, OwnersNeverReplaceEachOthersWrenches) {
-  WrenchTable t(4);
+  common::WrenchTable t(4);
   Wrench a = wrench(1, 0, 0, 1.0);
   a.owner = 11;
   Wrench b = a;
   b.owner = 22;  // another identity writing the same source, body and key
-  EXPECT_EQ(t.upsert(a, 11, 5, 100), WrenchTable::Upsert::kInserted);
-  EXPECT_EQ(t.upsert(b, 22, 5, 100), WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(a, 11, 5, 100), common::WrenchTable::Upsert::kInserted);
+  EXPECT_EQ(t.upsert(b, 22, 5, 100), common::WrenchTable::Upsert::kInserted);
   EXPECT_EQ(t.size(), 2u);
 }
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "common/world_csv.hpp"
 #include "physics/integrator.hpp"
 #include "scene/scene.hpp"
-#include "sim/state_csv.hpp"
 #include "test_dir.hpp"
 
 namespace rigid::sim {

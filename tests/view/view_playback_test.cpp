@@ -19,16 +19,16 @@
 #include <variant>
 #include <vector>
 
+#include "common/driven_world.hpp"
+#include "common/journal_entry.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
+#include "common/state_conversion.hpp"
+#include "common/state_hash.hpp"
 #include "drift.hpp"
-#include "loop/driven_world.hpp"
-#include "loop/journal_entry.hpp"
-#include "loop/state_conversion.hpp"
-#include "loop/state_hash.hpp"
 #include "playback_clock.hpp"
 #include "protocol.hpp"
 #include "recording_source.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
 #include "scene/scene.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
@@ -251,26 +251,26 @@ class RecordingFiles : public ::testing::Test {
                     int scene_change_at = -1,
                     msgs::LogHeader::Kind kind = msgs::LogHeader::RECORDING) {
     const std::string file = path(name);
-    records::RecordWriter w(file, false);
+    common::RecordWriter w(file, false);
     msgs::LogRecord r;
     r.mutable_header()->set_kind(kind);
-    r.mutable_header()->set_schema_version(records::kLogSchemaVersion);
-    records::to_record(two_bodies("first"), 0, *r.mutable_header()->mutable_scene());
+    r.mutable_header()->set_schema_version(common::kLogSchemaVersion);
+    common::to_record(two_bodies("first"), 0, *r.mutable_header()->mutable_scene());
     w.append(r);
     for (std::size_t i = 0; i < ticks.size(); ++i) {
       if (i == 3) {  // Stats, as rigidd sends them once a second
         r.Clear();
-        records::to_record(stats_at_tick(ticks[i]), 7, *r.mutable_stats());
+        common::to_record(stats_at_tick(ticks[i]), 7, *r.mutable_stats());
         w.append(r);
       }
       if (static_cast<int>(i) == scene_change_at) {
         r.Clear();
-        records::to_record(two_bodies("second"), 5, *r.mutable_scene());
+        common::to_record(two_bodies("second"), 5, *r.mutable_scene());
         w.append(r);
       }
       r.Clear();
-      records::to_record(state_at(ticks[i]), static_cast<std::int64_t>(i) * 10'000'000,
-                         *r.mutable_state());
+      common::to_record(state_at(ticks[i]), static_cast<std::int64_t>(i) * 10'000'000,
+                        *r.mutable_state());
       w.append(r);
     }
     r.Clear();
@@ -290,22 +290,22 @@ class RecordingFiles : public ::testing::Test {
   std::string write_with_commands(const std::string& name, const std::vector<std::int64_t>& ticks,
                                   const std::vector<Placed>& commands) {
     const std::string file = path(name);
-    records::RecordWriter w(file, false);
+    common::RecordWriter w(file, false);
     msgs::LogRecord r;
     r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
-    r.mutable_header()->set_schema_version(records::kLogSchemaVersion);
-    records::to_record(two_bodies("first"), 0, *r.mutable_header()->mutable_scene());
+    r.mutable_header()->set_schema_version(common::kLogSchemaVersion);
+    common::to_record(two_bodies("first"), 0, *r.mutable_header()->mutable_scene());
     w.append(r);
     for (std::size_t i = 0; i <= ticks.size(); ++i) {
       for (const Placed& c : commands) {
         if (c.before != i && !(i == ticks.size() && c.before > i)) continue;
         r.Clear();
-        records::to_record(c.command, 0, *r.mutable_command());
+        common::to_record(c.command, 0, *r.mutable_command());
         w.append(r);
       }
       if (i == ticks.size()) break;
       r.Clear();
-      records::to_record(state_at(ticks[i]), 0, *r.mutable_state());
+      common::to_record(state_at(ticks[i]), 0, *r.mutable_state());
       w.append(r);
     }
     w.close();
@@ -513,7 +513,7 @@ TEST_F(RecordingFiles, PlaysUpToADamagedTail) {
   EXPECT_EQ(r.states.size(), 7u);
   EXPECT_NE(r.note.find("damaged tail"), std::string::npos) << r.note;
   // Cut inside the header: nothing to play.
-  fs::resize_file(file, records::kLogPreambleBytes + records::kFrameHeaderBytes + 3);
+  fs::resize_file(file, common::kLogPreambleBytes + common::kFrameHeaderBytes + 3);
   const std::string why = what_of_load(file);
   EXPECT_EQ(why.rfind(file + ": no header record", 0), 0u) << why;
 }
@@ -642,36 +642,36 @@ class JournaledSession {
         tick_dt_(1.0 / scene_.rate_hz),
         driven_(scene_.world, tick_dt_, scene_.substeps, wrench_capacity),
         writer_(path, false) {
-    description = loop::describe_scene(scene_, driven_.world());
+    description = common::describe_scene(scene_, driven_.world());
     msgs::LogHeader& h = *record_.mutable_header();
     h.set_kind(msgs::LogHeader::JOURNAL);
-    h.set_schema_version(records::kLogSchemaVersion);
-    h.set_software_version(records::software_version());
+    h.set_schema_version(common::kLogSchemaVersion);
+    h.set_software_version(common::software_version());
     h.set_writer("view_playback_test");
-    records::to_record(description, 0, *h.mutable_scene());
+    common::to_record(description, 0, *h.mutable_scene());
     h.set_integrator(description.integrator);
     h.set_rate_hz(scene_.rate_hz);
     h.set_scene_text(kJournalScene);
     h.set_mode("fast");
     h.set_wrench_capacity(wrench_capacity);
     writer_.append(record_);
-    loop::shape_state_frame(driven_.world(), frame_);
+    common::shape_state_frame(driven_.world(), frame_);
     publish();  // tick 0
   }
 
-  void wrench(const loop::Wrench& w) {
-    ASSERT_EQ(driven_.apply(w), loop::WrenchTable::Upsert::kInserted);
-    loop::JournalEntry e;
-    e.kind = loop::JournalEntry::Kind::kWrench;
+  void wrench(const common::Wrench& w) {
+    ASSERT_EQ(driven_.apply(w), common::WrenchTable::Upsert::kInserted);
+    common::JournalEntry e;
+    e.kind = common::JournalEntry::Kind::kWrench;
     e.tick = driven_.tick();
     e.wrench = w;
     command(e);
   }
   void reset() {
-    loop::JournalEntry e;
-    e.kind = loop::JournalEntry::Kind::kControl;
+    common::JournalEntry e;
+    e.kind = common::JournalEntry::Kind::kControl;
     e.tick = driven_.tick();
-    e.control = loop::Control{9, ++control_seq_, ControlKind::kReset, 0, 0};
+    e.control = common::Control{9, ++control_seq_, ControlKind::kReset, 0, 0};
     command(e);
     driven_.reset();
     hashed_tick_ = -1;
@@ -695,28 +695,28 @@ class JournaledSession {
   std::vector<StateFrame> published;
 
  private:
-  void command(const loop::JournalEntry& e) {
-    records::to_record(loop::accepted_command(e), 0, *record_.mutable_command());
+  void command(const common::JournalEntry& e) {
+    common::to_record(common::accepted_command(e), 0, *record_.mutable_command());
     writer_.append(record_);
     new_command_ = true;
   }
   void publish() {
     const std::int64_t tick = driven_.tick();
     // sim_time as rigidd computes it (tick x tick_dt), to the bit.
-    loop::fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * tick_dt_, frame_);
+    common::fill_state_frame(driven_.world(), tick, static_cast<double>(tick) * tick_dt_, frame_);
     if (tick == hashed_tick_) return;  // republished unchanged: hashed once
     published.push_back(frame_);
     msgs::StateHash& h = *record_.mutable_state_hash();
     h.set_tick(tick);
-    h.set_hash(loop::state_hash(frame_));
+    h.set_hash(common::state_hash(frame_));
     writer_.append(record_);
     hashed_tick_ = tick;
   }
 
   scene::Scene scene_;
   double tick_dt_;
-  loop::DrivenWorld driven_;
-  records::RecordWriter writer_;
+  common::DrivenWorld driven_;
+  common::RecordWriter writer_;
   msgs::LogRecord record_;
   StateFrame frame_;
   std::int64_t hashed_tick_ = -1;
@@ -724,8 +724,8 @@ class JournaledSession {
   bool new_command_ = false;
 };
 
-loop::Wrench push_on(std::int32_t body, std::int64_t seq, double fx, double ttl) {
-  loop::Wrench w;
+common::Wrench push_on(std::int32_t body, std::int64_t seq, double fx, double ttl) {
+  common::Wrench w;
   w.source = 3;
   w.seq = seq;
   w.body = body;
@@ -739,7 +739,7 @@ loop::Wrench push_on(std::int32_t body, std::int64_t seq, double fx, double ttl)
 
 // rigid-sim --replay's reading of a journal, record by record, and its writing back.
 std::vector<msgs::LogRecord> read_records(const std::string& path) {
-  records::RecordReader reader(path);
+  common::RecordReader reader(path);
   std::vector<msgs::LogRecord> all;
   msgs::LogRecord r;
   while (reader.next(r))
@@ -747,7 +747,7 @@ std::vector<msgs::LogRecord> read_records(const std::string& path) {
   return all;
 }
 void write_records(const std::string& path, const std::vector<msgs::LogRecord>& all) {
-  records::RecordWriter w(path, true);
+  common::RecordWriter w(path, true);
   for (const msgs::LogRecord& r : all)
     w.append(r);
   w.close();
@@ -927,9 +927,9 @@ TEST_F(JournalFiles, ACommandThatWasNotRigiddsRefusesTheWholeJournal) {
   }
   ASSERT_NE(first_command, nullptr);
   AcceptedCommand a;
-  records::from_record(first_command->command(), a);
+  common::from_record(first_command->command(), a);
   a.force[0] += 1e-9;  // a whisker: the next state's hash differs all the same
-  records::to_record(a, 0, *first_command->mutable_command());
+  common::to_record(a, 0, *first_command->mutable_command());
   const std::string file = path("changed.journal");
   write_records(file, all);
   const std::string why = what_of_load(file);

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "loop/command.hpp"
-#include "loop/wrench_table.hpp"
+#include "common/applied_command.hpp"
+#include "common/wrench_table.hpp"
 #include "physics/world.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 class DrivenWorld {
  public:
@@ -62,4 +62,4 @@ class DrivenWorld {
   std::vector<std::uint8_t> is_loaded_;
 };
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <span>
 
-namespace rigid::records {
+namespace rigid::common {
 
 // The CRC of `bytes`; extend a running CRC by passing it as `crc` (crc32c(a + b) ==
 // crc32c(b, crc32c(a))).
 std::uint32_t crc32c(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0);
 
-}  // namespace rigid::records
+}  // namespace rigid::common

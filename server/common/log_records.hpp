@@ -8,7 +8,7 @@
 #include "rigid.pb.h"
 #include "rigid/messages.hpp"
 
-namespace rigid::records {
+namespace rigid::common {
 
 // recorded_ns: CLOCK_MONOTONIC since the file was started (the pace `play` replays at).
 void to_record(const rigid::StateFrame& in, std::int64_t recorded_ns, msgs::StateRecord& out);
@@ -23,4 +23,4 @@ bool from_record(const msgs::SceneRecord& in, rigid::SceneDescription& out);
 void from_record(const msgs::StatsRecord& in, rigid::StatsReport& out);
 void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out);
 
-}  // namespace rigid::records
+}  // namespace rigid::common

@@ -1,6 +1,6 @@
-#include "loop/driven_world.hpp"
+#include "common/driven_world.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 namespace {
 
 physics::Vec3 eigen(const Vec3& v) {
@@ -69,4 +69,4 @@ void DrivenWorld::reset() {
   tick_ = 0;
 }
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

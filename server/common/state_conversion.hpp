@@ -9,7 +9,7 @@
 #include "rigid/messages.hpp"
 #include "scene/scene.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 // Sizes `frame` for the world and writes the ids: once, at start-up.
 void shape_state_frame(const physics::World& world, rigid::StateFrame& frame);
@@ -24,4 +24,4 @@ void fill_state_frame(const physics::World& world, std::int64_t tick, double sim
 // integrator the world runs.
 rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world);
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -1,8 +1,8 @@
-#include "records/crc32c.hpp"
+#include "common/crc32c.hpp"
 
 #include <array>
 
-namespace rigid::records {
+namespace rigid::common {
 namespace {
 
 constexpr std::uint32_t kPolynomial = 0x82F63B78;  // 0x1EDC6F41 bit-reversed
@@ -47,4 +47,4 @@ std::uint32_t crc32c(std::span<const std::uint8_t> bytes, std::uint32_t crc) {
   return ~c;
 }
 
-}  // namespace rigid::records
+}  // namespace rigid::common

@@ -22,7 +22,7 @@
 
 #include "rigid.pb.h"
 
-namespace rigid::records {
+namespace rigid::common {
 
 inline constexpr std::string_view kLogMagic = "RIGIDLOG";
 inline constexpr std::uint32_t kLogFormatVersion = 1;  // of the framing
@@ -121,4 +121,4 @@ class RecordReader {
 // True if the file at `path` starts like an lcm-logger event log (its sync word).
 bool looks_like_lcm_log(const std::string& path);
 
-}  // namespace rigid::records
+}  // namespace rigid::common

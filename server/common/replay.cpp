@@ -1,5 +1,5 @@
 // Re-running a journal, and the report at the end.
-#include "sim/replay.hpp"
+#include "common/replay.hpp"
 
 #include <cinttypes>
 #include <cstdio>
@@ -8,17 +8,17 @@
 #include <ostream>
 #include <sstream>
 
-#include "loop/driven_world.hpp"
-#include "loop/journal_entry.hpp"
-#include "loop/state_conversion.hpp"
-#include "loop/state_hash.hpp"
-#include "records/log_records.hpp"
-#include "records/record_file.hpp"
+#include "common/driven_world.hpp"
+#include "common/journal_entry.hpp"
+#include "common/log_records.hpp"
+#include "common/record_file.hpp"
+#include "common/state_conversion.hpp"
+#include "common/state_hash.hpp"
+#include "common/world_csv.hpp"
 #include "scene/scene.hpp"
-#include "sim/state_csv.hpp"
 #include "util/atomic_file.hpp"
 
-namespace rigid::sim {
+namespace rigid::common {
 namespace {
 
 // rigidd's default (loop::ServerOptions::wrench_capacity), for a journal that does not say.
@@ -38,7 +38,7 @@ std::string hex(std::uint64_t v) {
 }
 
 // The journal's header, checked: a JOURNAL of a schema this program reads.
-msgs::LogHeader read_header(records::RecordReader& reader) {
+msgs::LogHeader read_header(common::RecordReader& reader) {
   msgs::LogRecord record;
   if (!reader.next(record) || !record.has_header()) {
     throw std::runtime_error(reader.path() + ": no header record" +
@@ -50,20 +50,20 @@ msgs::LogHeader read_header(records::RecordReader& reader) {
                              ": not a journal but a recording (rigid-record info describes it; "
                              "journals come from rigidd --journal)");
   }
-  if (h.schema_version() > records::kLogSchemaVersion) {
+  if (h.schema_version() > common::kLogSchemaVersion) {
     throw std::runtime_error(reader.path() + ": log schema version " +
                              std::to_string(h.schema_version()) + ", this program reads up to " +
-                             std::to_string(records::kLogSchemaVersion));
+                             std::to_string(common::kLogSchemaVersion));
   }
   return h;
 }
 
-scene::Scene journal_scene(const SimOptions& options, const msgs::LogHeader& h,
+scene::Scene journal_scene(const ReplayOptions& options, const msgs::LogHeader& h,
                            ReplayReport& report) {
-  const std::string& journal = *options.replay;
+  const std::string& journal = options.journal;
   if (options.scene.empty()) {
     if (h.scene_text().empty()) {
-      throw UsageError(journal + ": holds no copy of its scene: give the SCENE it ran");
+      throw SceneMismatch(journal + ": holds no copy of its scene: give the SCENE it ran");
     }
     report.scene = journal + " (its copy of " + h.scene().scene_name() + ")";
     return scene::parse_scene(h.scene_text(), journal + ":scene");
@@ -74,34 +74,34 @@ scene::Scene journal_scene(const SimOptions& options, const msgs::LogHeader& h,
     report.warnings.push_back(journal + " holds no copy of its scene: cannot check that " +
                               options.scene + " is the scene it ran");
   } else if (read_text(options.scene) != h.scene_text()) {
-    throw UsageError(options.scene + ": not the scene " + journal + " was recorded with (" +
-                     h.scene().scene_name() +
-                     "); the journal holds a copy of it: leave SCENE out to use it");
+    throw SceneMismatch(options.scene + ": not the scene " + journal + " was recorded with (" +
+                        h.scene().scene_name() +
+                        "); the journal holds a copy of it: leave SCENE out to use it");
   }
   return s;
 }
 
 }  // namespace
 
-ReplayReport replay(const SimOptions& options, const StateSink& on_state) {
+ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
   ReplayReport r;
-  r.journal = *options.replay;
-  records::RecordReader reader(r.journal);  // throws records::LogFileError, a std::runtime_error
+  r.journal = options.journal;
+  common::RecordReader reader(r.journal);  // throws common::LogFileError, a std::runtime_error
   const msgs::LogHeader header = read_header(reader);
   const scene::Scene scene = journal_scene(options, header, r);
   for (const std::string& w : scene.warnings)
     r.warnings.push_back(w);
 
   r.software_version = header.software_version();
-  if (header.software_version() != records::software_version()) {
+  if (header.software_version() != common::software_version()) {
     r.warnings.push_back("journal written by " + header.software_version() + ", replayed by " +
-                         records::software_version() +
+                         common::software_version() +
                          ": only the same build promises bit-identical states");
   }
   const double tick_dt = 1.0 / scene.rate_hz;
   const std::uint64_t capacity =
       header.wrench_capacity() > 0 ? header.wrench_capacity() : kDefaultWrenchCapacity;
-  loop::DrivenWorld driven(scene.world, tick_dt, scene.substeps, capacity);
+  common::DrivenWorld driven(scene.world, tick_dt, scene.substeps, capacity);
   r.integrator = std::string(driven.world().integrator().name);
   r.rate_hz = scene.rate_hz;
   if (!header.integrator().empty() && header.integrator() != r.integrator) {
@@ -118,7 +118,7 @@ ReplayReport replay(const SimOptions& options, const StateSink& on_state) {
   }
 
   rigid::StateFrame frame;
-  loop::shape_state_frame(driven.world(), frame);
+  common::shape_state_frame(driven.world(), frame);
   const int bodies = driven.world().body_count();
   // Steps the replay to `tick`; false (and a divergence) if the journal goes back in time, which
   // the live loop never does between resets.
@@ -140,16 +140,16 @@ ReplayReport replay(const SimOptions& options, const StateSink& on_state) {
   while (!r.divergence && !r.gap && reader.next(record)) {
     switch (record.record_case()) {
       case msgs::LogRecord::kCommand: {
-        records::from_record(record.command(), accepted);
+        common::from_record(record.command(), accepted);
         if (!advance_to(accepted.tick, "command")) break;
         if (accepted.kind == rigid::AcceptedKind::kWrench) {
           ++r.wrenches;
-          const loop::Wrench w = loop::wrench_of(accepted);
+          const Wrench w = wrench_of(accepted);
           if (w.body < 0 || w.body >= bodies) {
             r.divergence = ReplayReport::Divergence{
                 accepted.tick, 0, 0,
                 "a wrench on body " + std::to_string(w.body) + ", which the scene does not have"};
-          } else if (driven.apply(w) == loop::WrenchTable::Upsert::kFull) {
+          } else if (driven.apply(w) == common::WrenchTable::Upsert::kFull) {
             r.divergence = ReplayReport::Divergence{
                 accepted.tick, 0, 0,
                 "a wrench rigidd accepted finds the replay's wrench table full (" +
@@ -167,8 +167,8 @@ ReplayReport replay(const SimOptions& options, const StateSink& on_state) {
       case msgs::LogRecord::kStateHash: {
         const std::int64_t tick = record.state_hash().tick();
         if (!advance_to(tick, "state hash")) break;
-        loop::fill_state_frame(driven.world(), tick, static_cast<double>(tick) * tick_dt, frame);
-        const std::uint64_t replayed = loop::state_hash(frame);
+        common::fill_state_frame(driven.world(), tick, static_cast<double>(tick) * tick_dt, frame);
+        const std::uint64_t replayed = common::state_hash(frame);
         ++r.hashes_compared;
         if (replayed != record.state_hash().hash()) {
           r.divergence = ReplayReport::Divergence{tick, record.state_hash().hash(), replayed,
@@ -236,4 +236,4 @@ void print_replay(std::ostream& out, const ReplayReport& r) {
   }
 }
 
-}  // namespace rigid::sim
+}  // namespace rigid::common

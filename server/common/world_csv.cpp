@@ -1,7 +1,7 @@
 // CSV rows of the world's body states.
-#include "sim/state_csv.hpp"
+#include "common/world_csv.hpp"
 
-namespace rigid::sim {
+namespace rigid::common {
 
 void append_state_rows(const physics::World& world, std::string& out) {
   const double t = world.time();
@@ -14,4 +14,4 @@ void append_state_rows(const physics::World& world, std::string& out) {
   }
 }
 
-}  // namespace rigid::sim
+}  // namespace rigid::common

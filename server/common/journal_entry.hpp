@@ -12,10 +12,10 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "loop/command.hpp"
+#include "common/applied_command.hpp"
 #include "rigid/messages.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 struct JournalEntry {
   enum class Kind : std::uint8_t { kWrench, kControl, kStateHash };
@@ -32,4 +32,4 @@ rigid::AcceptedCommand accepted_command(const JournalEntry& entry);
 // The wrench an accepted kWrench command carries, as the loop applied it.
 Wrench wrench_of(const rigid::AcceptedCommand& accepted);
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

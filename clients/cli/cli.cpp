@@ -1,4 +1,4 @@
-#include "common/cli.hpp"
+#include "cli/cli.hpp"
 
 #include <algorithm>
 #include <charconv>

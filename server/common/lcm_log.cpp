@@ -1,4 +1,4 @@
-#include "record/lcm_log.hpp"
+#include "common/lcm_log.hpp"
 
 #include <sys/stat.h>
 
@@ -6,7 +6,9 @@
 #include <cerrno>
 #include <cstring>
 
-namespace rigid::record {
+#include "transport/topic.hpp"
+
+namespace rigid::common {
 namespace {
 
 constexpr std::uint32_t kSync = 0xEDA1DA01;
@@ -27,18 +29,18 @@ std::uint64_t big_endian(const std::uint8_t* p, int bytes) {
 LcmLogReader::LcmLogReader(const std::string& path) : path_(path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
-    throw records::LogFileError(path + ": cannot open: " + std::strerror(errno));
+    throw common::LogFileError(path + ": cannot open: " + std::strerror(errno));
   }
   file_.reset(std::fopen(path.c_str(), "rb"));
-  if (!file_) throw records::LogFileError(path + ": cannot open: " + std::strerror(errno));
+  if (!file_) throw common::LogFileError(path + ": cannot open: " + std::strerror(errno));
   size_ = static_cast<std::uint64_t>(st.st_size);
-  if (!records::looks_like_lcm_log(path)) {
-    throw records::LogFileError(path + ": not an lcm-logger file (no event sync word)");
+  if (!common::looks_like_lcm_log(path)) {
+    throw common::LogFileError(path + ": not an lcm-logger file (no event sync word)");
   }
 }
 
 bool LcmLogReader::fail(std::string reason) {
-  damage_ = records::Damage{offset_, size_ - offset_, std::move(reason)};
+  damage_ = common::Damage{offset_, size_ - offset_, std::move(reason)};
   return false;
 }
 
@@ -77,4 +79,32 @@ bool LcmLogReader::next(LcmEvent& out) {
   return true;
 }
 
-}  // namespace rigid::record
+std::string lcm_log_prefix(const std::string& file, const std::optional<std::string>& prefix,
+                           const std::map<std::string, std::int64_t>& seen) {
+  using transport::Topic;
+  const auto state = [](const std::string& prefix) {
+    return transport::lcm_channel_names(prefix)[transport::index_of(Topic::kState)];
+  };
+  if (prefix) return *prefix;
+  const std::string plain = state("");
+  if (seen.contains(plain)) return "";
+  std::vector<std::string> prefixes;
+  for (const auto& [channel, n] : seen) {
+    if (channel.size() > plain.size() + 1 && channel.ends_with("_" + plain)) {
+      prefixes.push_back(channel.substr(0, channel.size() - plain.size() - 1));
+    }
+  }
+  if (prefixes.size() > 1) {
+    std::string list;
+    for (const std::string& p : prefixes)
+      list += (list.empty() ? "" : ", ") + p;
+    throw SeveralPrefixes(file + " holds the states of several prefixes (" + list +
+                          "): choose one with --prefix");
+  }
+  if (prefixes.empty()) {
+    throw LogFileError(file + ": no " + plain + " channel (of any prefix) in this log");
+  }
+  return prefixes.front();
+}
+
+}  // namespace rigid::common

@@ -1,8 +1,8 @@
-#include "records/log_records.hpp"
+#include "common/log_records.hpp"
 
 #include <algorithm>
 
-namespace rigid::records {
+namespace rigid::common {
 namespace {
 
 template <class T, class Field>
@@ -219,4 +219,4 @@ void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out) {
   out.stamp_ns = in.stamp_ns();
 }
 
-}  // namespace rigid::records
+}  // namespace rigid::common

@@ -1,8 +1,8 @@
-#include "loop/state_conversion.hpp"
+#include "common/state_conversion.hpp"
 
 #include <string>
 
-namespace rigid::loop {
+namespace rigid::common {
 
 void shape_state_frame(const physics::World& world, rigid::StateFrame& frame) {
   const auto n = static_cast<std::size_t>(world.body_count());
@@ -89,4 +89,4 @@ rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics:
   return d;
 }
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -1,4 +1,4 @@
-#include "common/state_rows.hpp"
+#include "cli/state_rows.hpp"
 
 #include <array>
 

@@ -1,6 +1,6 @@
-#include "loop/journal_entry.hpp"
+#include "common/journal_entry.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 rigid::AcceptedCommand accepted_command(const JournalEntry& e) {
   rigid::AcceptedCommand a;
@@ -36,4 +36,4 @@ Wrench wrench_of(const rigid::AcceptedCommand& a) {
   return w;
 }
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -13,8 +13,8 @@
 
 #include "rigid/messages.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 std::uint64_t state_hash(const rigid::StateFrame& frame);
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

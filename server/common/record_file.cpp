@@ -1,4 +1,4 @@
-#include "records/record_file.hpp"
+#include "common/record_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -9,9 +9,9 @@
 #include <cerrno>
 #include <cstring>
 
-#include "records/crc32c.hpp"
+#include "common/crc32c.hpp"
 
-namespace rigid::records {
+namespace rigid::common {
 namespace {
 
 void put_u32(std::string& out, std::uint32_t v) {
@@ -192,4 +192,4 @@ bool looks_like_lcm_log(const std::string& path) {
   return std::fread(head.data(), 1, head.size(), f.get()) == head.size() && head == kLcmSync;
 }
 
-}  // namespace rigid::records
+}  // namespace rigid::common

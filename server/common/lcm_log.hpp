@@ -11,14 +11,15 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "records/record_file.hpp"
+#include "common/record_file.hpp"
 
-namespace rigid::record {
+namespace rigid::common {
 
 struct LcmEvent {
   std::int64_t number = 0;
@@ -29,11 +30,11 @@ struct LcmEvent {
 
 class LcmLogReader {
  public:
-  // Throws records::LogFileError when the file cannot be opened or is not an LCM log.
+  // Throws common::LogFileError when the file cannot be opened or is not an LCM log.
   explicit LcmLogReader(const std::string& path);
   // The next complete event, or false: at the end, or at damage (damage() says where and why).
   bool next(LcmEvent& out);
-  const std::optional<records::Damage>& damage() const { return damage_; }
+  const std::optional<common::Damage>& damage() const { return damage_; }
   std::int64_t events() const { return events_; }
 
  private:
@@ -47,7 +48,17 @@ class LcmLogReader {
   std::uint64_t size_ = 0;
   std::uint64_t offset_ = 0;
   std::int64_t events_ = 0;
-  std::optional<records::Damage> damage_;
+  std::optional<common::Damage> damage_;
 };
 
-}  // namespace rigid::record
+// The prefix of rigidd's channels in an LCM log whose channels (with their event counts) are
+// `seen`: `prefix` if given, else "" if the unprefixed state channel is there, else the one prefix
+// the log holds. Throws SeveralPrefixes, or LogFileError when there is none.
+class SeveralPrefixes : public LogFileError {
+ public:
+  using LogFileError::LogFileError;
+};
+std::string lcm_log_prefix(const std::string& file, const std::optional<std::string>& prefix,
+                           const std::map<std::string, std::int64_t>& seen);
+
+}  // namespace rigid::common

@@ -13,10 +13,10 @@
 #include <span>
 #include <vector>
 
-#include "loop/command.hpp"
-#include "loop/fixed_map.hpp"
+#include "common/applied_command.hpp"
+#include "util/fixed_map.hpp"
 
-namespace rigid::loop {
+namespace rigid::common {
 
 // The number of ticks a wrench with time to live `ttl` (s) acts for, at `tick_dt` (s) per tick:
 // ttl / tick_dt rounded up (a ratio within 1e-9 of an integer counts as that integer, so 0.2 s
@@ -60,13 +60,14 @@ class WrenchTable {
   };
   struct KeyHash {
     std::uint64_t operator()(const Key& k) const {
-      return mix64(k.owner ^ mix64(static_cast<std::uint64_t>(k.source)) ^
-                   mix64((static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.body)) << 32) |
-                         static_cast<std::uint32_t>(k.key)));
+      return util::mix64(
+          k.owner ^ util::mix64(static_cast<std::uint64_t>(k.source)) ^
+          util::mix64((static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.body)) << 32) |
+                      static_cast<std::uint32_t>(k.key)));
     }
   };
   struct SenderHash {
-    std::uint64_t operator()(std::uint64_t k) const { return mix64(k); }
+    std::uint64_t operator()(std::uint64_t k) const { return util::mix64(k); }
   };
   static Key key_of(const Wrench& w) { return Key{w.owner, w.source, w.body, w.key}; }
   void count(std::uint64_t sender, int delta);
@@ -76,8 +77,8 @@ class WrenchTable {
 
   std::vector<ActiveWrench> entries_;  // the first size_ are live, in arrival order
   std::size_t size_ = 0;
-  FixedMap<Key, std::uint32_t, KeyHash> index_;              // key -> position in entries_
-  FixedMap<std::uint64_t, std::uint32_t, SenderHash> held_;  // sender -> entries held
+  util::FixedMap<Key, std::uint32_t, KeyHash> index_;              // key -> position in entries_
+  util::FixedMap<std::uint64_t, std::uint32_t, SenderHash> held_;  // sender -> entries held
 };
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

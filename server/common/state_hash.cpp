@@ -1,9 +1,9 @@
-#include "loop/state_hash.hpp"
+#include "common/state_hash.hpp"
 
 #include <bit>
 #include <vector>
 
-namespace rigid::loop {
+namespace rigid::common {
 namespace {
 
 constexpr std::uint64_t kMultiplier = 0x9E3779B97F4A7C15ULL;  // odd: multiplying is a bijection
@@ -39,4 +39,4 @@ std::uint64_t state_hash(const rigid::StateFrame& frame) {
   return finish(h);
 }
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace rigid::loop {
+namespace rigid::util {
 
 // splitmix64's finaliser: spreads sequential ids over the table.
 inline std::uint64_t mix64(std::uint64_t x) {
@@ -111,4 +111,4 @@ class FixedMap {
   std::vector<Slot> slots_;
 };
 
-}  // namespace rigid::loop
+}  // namespace rigid::util

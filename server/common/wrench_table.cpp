@@ -1,9 +1,9 @@
-#include "loop/wrench_table.hpp"
+#include "common/wrench_table.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace rigid::loop {
+namespace rigid::common {
 
 std::int64_t ticks_to_live(double ttl, double tick_dt) {
   const double ratio = ttl / tick_dt;
@@ -104,4 +104,4 @@ void WrenchTable::clear() {
   held_.clear();
 }
 
-}  // namespace rigid::loop
+}  // namespace rigid::common

@@ -9,13 +9,13 @@
 #include <functional>
 #include <iosfwd>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "rigid/messages.hpp"
-#include "sim/sim_options.hpp"
 
-namespace rigid::sim {
+namespace rigid::common {
 
 struct ReplayReport {
   std::string journal;
@@ -62,12 +62,24 @@ struct ReplayReport {
 // valid during the call only.
 using StateSink = std::function<void(const rigid::StateFrame&)>;
 
-// Runs the replay `options.replay` (with the scene options.scene, if given). Throws UsageError for
-// a scene that is not the journal's (exit 2), scene::SceneError for a bad scene, and
+struct ReplayOptions {
+  std::string journal;             // rigidd --journal's file
+  std::string scene;               // the scene it ran; empty: the journal's copy of it
+  std::optional<std::string> csv;  // write the replayed states to this file (state CSV)
+};
+
+// The scene given is not the one the journal was recorded with, or none was given and the journal
+// holds no copy (rigid-sim: a usage error, exit 2).
+class SceneMismatch : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Runs the replay of options.journal. Throws SceneMismatch, scene::SceneError for a bad scene, and
 // std::runtime_error for a journal that cannot be read or a CSV that cannot be written (exit 1).
 // What `on_state` throws ends the replay and propagates.
-ReplayReport replay(const SimOptions& options, const StateSink& on_state = {});
+ReplayReport replay(const ReplayOptions& options, const StateSink& on_state = {});
 
 void print_replay(std::ostream& out, const ReplayReport& report);
 
-}  // namespace rigid::sim
+}  // namespace rigid::common
