@@ -1,4 +1,4 @@
-// A received state as rigid-sim's CSV rows (sim/state_csv.hpp: t,body,x,...,wz, 17 significant
+// A received state as rigid-sim's CSV rows (util/state_csv.hpp: t,body,x,...,wz, 17 significant
 // digits), one row per body, named from the scene. For rigidctl echo --csv and rigid-record export.
 #pragma once
 

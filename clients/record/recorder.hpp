@@ -1,5 +1,5 @@
 // rigid-record record: subscribes to rigidd on one bus and writes its scene, states, stats and
-// accepted commands to a log file (records/record_file.hpp) as they arrive.
+// accepted commands to a log file (common/record_file.hpp) as they arrive.
 //
 // The transport's thread turns each message into a record and queues it (bounded: past
 // kMaxQueuedBytes the newest are dropped and counted, so a stalled disk cannot eat the memory);

@@ -45,7 +45,7 @@ class DriftTracker {
   void set_scene(const SceneDescription& scene);
   // A wrench accepted at `tick` with time to live `ttl` (s) on `body`: its reference is retaken
   // with every state up to tick + ticks_to_live(ttl, dt) + kDrivenMargin / dt (rigidd's ticks,
-  // loop/wrench_table.hpp); until the next reset when dt or ttl gives no sensible count.
+  // common/wrench_table.hpp); until the next reset when dt or ttl gives no sensible count.
   void drive(std::int32_t body, std::int64_t tick, double ttl);
   // Takes a state: each body's relative drift |E - E0| / |E0| and |L_W - L0| / |L0| (a quantity
   // that starts at zero is compared to 1 instead), in the state's order (0 for an id the scene

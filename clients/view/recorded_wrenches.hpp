@@ -2,7 +2,7 @@
 // playback draws the arrows live mode draws (protocol.hpp wrenches_json).
 //
 // rigidd takes a wrench between ticks: accepted at tick k (AcceptedCommand::tick), it acts on the
-// steps k -> k+1 ... k+n-1 -> k+n, n = ticks_to_live(ttl, dt) (server/loop/wrench_table.hpp), so
+// steps k -> k+1 ... k+n-1 -> k+n, n = ticks_to_live(ttl, dt) (server/common/wrench_table.hpp), so
 // it is shown with the states its steps produced: k < tick <= k + n. A later wrench with the same
 // (source, body, key) replaces it from its own tick k' (shown up to k'), and a reset at tick r
 // clears it (shown up to r), as rigidd's wrench table does.

@@ -1,13 +1,14 @@
 // rigid-view FILE: a recording loaded for the page, read with rigid-record's readers (a
 // rigid-record recording through common::RecordReader, an lcm-logger log through
 // common::LcmLogReader), or a journal of rigidd (rigidd --journal), which holds no states: they
-// are re-stepped by rigid-sim's replay (sim/replay.hpp) and only those whose hash matches the
-// journal's are kept, which are the states rigidd published. Every state is kept in memory already
-// encoded as the page's binary frame (protocol.hpp encode_state), so that playing and seeking cost
-// a lookup and no encoding (with stamp 0: the recorded stamps say nothing of the page's latency).
-// Memory is bounded: a file whose frames would need more than LoadLimits::max_bytes is refused with
-// one line naming the file and the size (play such a file on a bus with `rigid-record play` and
-// watch it with a live rigid-view; a journal's states go to CSV with `rigid-sim --replay`).
+// are re-stepped by the replay rigid-sim runs (common/replay.hpp) and only those whose hash matches
+// the journal's are kept, which are the states rigidd published. Every state is kept in memory
+// already encoded as the page's binary frame (protocol.hpp encode_state), so that playing and
+// seeking cost a lookup and no encoding (with stamp 0: the recorded stamps say nothing of the
+// page's latency). Memory is bounded: a file whose frames would need more than
+// LoadLimits::max_bytes is refused with one line naming the file and the size (play such a file on
+// a bus with `rigid-record play` and watch it with a live rigid-view; a journal's states go to CSV
+// with `rigid-sim --replay`).
 //
 // The timeline: each state has a position on it, its sim time, except that a recording which goes
 // back in sim time (rigidd reset while recording) carries on from where it was, so that positions

@@ -1,5 +1,5 @@
-// Reads the event logs lcm-logger writes, so that rigid-record export can turn an LCM user's
-// existing recordings into CSV. The format (LCM's documented log format): a sequence of events,
+// Reads the event logs lcm-logger writes, so that rigid-record export and rigid-view can read an
+// LCM user's existing recordings. The format (LCM's documented log format): a sequence of events,
 // each
 //
 //   uint32 sync word 0xEDA1DA01, int64 event number, int64 timestamp (us since the epoch),

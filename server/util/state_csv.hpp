@@ -1,6 +1,6 @@
 // The CSV format of body states: one row per body and time, world-frame quantities, every number
 // with 17 significant digits so that a double survives the round trip through text. rigid-sim
-// writes it from the world (sim/state_csv.hpp), the tools from received states.
+// writes it from the world (common/world_csv.hpp), the tools from received states.
 #pragma once
 
 #include <array>

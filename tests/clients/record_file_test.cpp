@@ -258,7 +258,7 @@ TEST(StateHash, EqualStatesHashEquallyAndAnyChangedValueChangesIt) {
   EXPECT_NE(state_hash(z), h);
 }
 
-// An lcm-logger event, big-endian (the format record/lcm_log.hpp reads).
+// An lcm-logger event, big-endian (the format common/lcm_log.hpp reads).
 std::string lcm_event(std::int64_t number, std::int64_t us, const std::string& channel,
                       const std::string& data) {
   std::string e;

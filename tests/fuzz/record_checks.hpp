@@ -1,5 +1,5 @@
 // What both record fuzzers (fuzz_record_file, fuzz_log_record) do with a LogRecord that parsed:
-// convert it as rigid-record and rigid-sim --replay do (records/log_records.hpp), and check that
+// convert it as rigid-record and rigid-sim --replay do (common/log_records.hpp), and check that
 // the conversion is stable: a record converted to a message and back, twice, gives the same bytes.
 #pragma once
 

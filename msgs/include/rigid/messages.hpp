@@ -98,7 +98,7 @@ struct StateFrame {
 // A wrench: a force at a body-local point, plus an optional pure torque, acting for ttl. Its one
 // home: the command a controller sends, the command the server accepted, the loop's table of
 // acting wrenches and its journal hold it as this base, and the converters (transport/
-// wire_fields.hpp, records/log_records.cpp), the view's JSON and Python's dicts read and write it
+// wire_fields.hpp, common/log_records.cpp), the view's JSON and Python's dicts read and write it
 // once as a whole, so that a new field is added here and where those spell it out.
 struct Wrench {
   Vec3 force{};  // N, in force_frame
