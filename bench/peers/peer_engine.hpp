@@ -1,7 +1,7 @@
 // The interface every peer engine's driver (MuJoCo, Bullet, ODE) implements, so that
 // peer_work_precision and the sanity test drive them all through the same code as
 // bench/work_precision drives ours: build a world of copies of a hard case's body, step it, read
-// body states back in our frames, and score them with bench/hard_cases' Scorer.
+// body states back in our frames, and score them with bench/physics/hard_cases' Scorer.
 #pragma once
 
 #include <memory>

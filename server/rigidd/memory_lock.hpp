@@ -1,7 +1,7 @@
 // Keeps rigidd's pages in RAM while it runs in realtime mode. A page the kernel drops (this
 // project's test VM runs DAMON, which pages out cold memory; with swap, any page can go) is read
 // back from disk the next time a thread touches it: a major fault, which stops that thread for as
-// long as the read takes, be it the loop in the middle of a tick (bench/loop_bench.cpp counts
+// long as the read takes, be it the loop in the middle of a tick (bench/loop/loop_bench.cpp counts
 // them per thread: one on the loop in a minute at 10^4 bodies). Real-time practice is to lock the
 // process's memory (mlockall(2)); rigidd does so once started.
 #pragma once

@@ -1,7 +1,7 @@
 // Where rigid's real-time threads run: the last CPU this process may use (the first is where
 // interrupts and most other work land by default), and pinning a thread to one CPU. rigidd's
 // loop and publishers go there (loop/server.cpp), and so does the tick thread of loop_bench's
-// stand-in for rigidd (bench/echo_server.cpp), so that both run where the other would.
+// stand-in for rigidd (bench/loop/echo_server.cpp), so that both run where the other would.
 // Header-only, like thread_name.hpp.
 #pragma once
 

@@ -1,6 +1,6 @@
 // Names a thread, as top -H, ps -L, perf and /proc/PID/task/TID/comm show it. rigid's
 // threads are named "rigid-<role>" (rigid-loop, rigid-pub-dds, rigid-step-1, ...) so that a
-// profile or a per-thread CPU reading (bench/loop_bench.cpp) says which one does what: the loop
+// profile or a per-thread CPU reading (bench/loop/loop_bench.cpp) says which one does what: the loop
 // and its publishers share one CPU at real-time priority, and which of them takes how much of it
 // decides whether ticks are late. Header-only, so that every library may use it without a link.
 #pragma once

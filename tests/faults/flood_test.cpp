@@ -2,7 +2,7 @@
 // answers a control request sent in the middle of it, and accounts for every command it received
 // (accepted, or refused and counted by reason: accepted + refused = received, exactly). What the
 // bus itself loses before rigidd sees it (a UDP socket buffer overrun, a DDS reader history of 256
-// overwritten) is rigidd's to neither see nor count: bench/flood measures it, with the loop's
+// overwritten) is rigidd's to neither see nor count: bench/loop/flood_bench.cpp measures it, with the loop's
 // timing. Runs alone (RUN_SERIAL): the flood takes both cores and would disturb timed tests.
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # rigid-record export --mcap, checked by an independent reader (check_mcap.mjs: @mcap/core and
 # protobufjs, pinned in package-lock.json). A deterministic recording is made without rigidd
-# (bench/synthetic_recording: every shape kind, edge-case doubles), exported to CSV (the
+# (tests/support/synthetic_recording: every shape kind, edge-case doubles), exported to CSV (the
 # reference: 17 significant digits round-trip every double) and to MCAP, and the MCAP is read
 # back: index, summary and every CRC valid, every state there, poses bit for bit, every message
 # decoded from its embedded schema. Then the refusals: an existing OUT without --force, a journal.

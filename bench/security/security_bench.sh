@@ -10,9 +10,9 @@
 # loop sleeps instead of spinning on a core of its own). Runs alternate plain, secure and secure
 # with the state unencrypted, REPEATS times each.
 #
-#   bench/security_bench.sh [--build DIR] [--duration S] [--repeats N]
+#   bench/security/security_bench.sh [--build DIR] [--duration S] [--repeats N]
 set -euo pipefail
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=$here/build
 duration=20
 repeats=2

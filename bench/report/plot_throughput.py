@@ -2,7 +2,7 @@
 """Throughput plots and tables from bench/throughput's CSV: ns per body-step against the number of
 bodies N for each body model and integrator, how the cost grows with N, and memory per body.
 
-    /usr/bin/python3 bench/plot_throughput.py [RESULTS_DIR]
+    /usr/bin/python3 bench/report/plot_throughput.py [RESULTS_DIR]
 
 Writes RESULTS_DIR/throughput.png and memory.png, and prints the report's Markdown section.
 """

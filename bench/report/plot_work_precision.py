@@ -3,10 +3,10 @@
 bench/work_precision's CSV (ours) and bench/peers/peer_work_precision's (the peers, with our default
 integrator timed in the same run as rigid_<integrator>).
 
-    /usr/bin/python3 bench/plot_work_precision.py [RESULTS_DIR]      (Debian's python3-matplotlib)
+    /usr/bin/python3 bench/report/plot_work_precision.py [RESULTS_DIR]      (Debian's python3-matplotlib)
 
 Writes RESULTS_DIR/wp_<case>.png, headline.csv and orders.csv, and prints the report's Markdown
-section (bench/write_report.py includes it in REPORT.md).
+section (bench/report/write_report.py includes it in REPORT.md).
 """
 import math
 import os

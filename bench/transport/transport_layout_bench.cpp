@@ -1,7 +1,7 @@
 // Which layout should rigid/state have on DDS? The same world state serialized and deserialized by
 // Cyclone's CDR stream code as
 //   flat:    msgs/rigid.idl's WorldState, per-body values in flat sequences of doubles;
-//   structs: bench/transport_layout_bench.idl, a sequence of one struct per body.
+//   structs: bench/transport/transport_layout_bench.idl, a sequence of one struct per body.
 // Write = what dds_write spends turning the sample into bytes; read = what a reader spends checking
 // (normalize) and deserializing them. The stream buffer and the decoded sample are reused, as in
 // steady state, so allocation is not measured. The LCM rows give the other bus's cost for the same

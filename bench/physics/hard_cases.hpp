@@ -9,7 +9,7 @@
 
 #include "physics/spec.hpp"
 #include "physics/world.hpp"
-#include "reference.hpp"  // tests/physics: the independent oracles
+#include "reference.hpp"  // server/oracle: the independent oracle
 
 namespace rigid::bench {
 

@@ -1,6 +1,6 @@
 // Work-precision: the error of every integrator of ours against its cost, on the hard cases
-// (bench/hard_cases.hpp), for steps from 1/10 s to 1/10000 s. One CSV row per (case, integrator,
-// step); bench/plot_work_precision.py turns it into plots and tables.
+// (bench/physics/hard_cases.hpp), for steps from 1/10 s to 1/10000 s. One CSV row per (case, integrator,
+// step); bench/report/plot_work_precision.py turns it into plots and tables.
 //
 //   build/bench/work_precision [--quick] [--out bench/results/work_precision.csv] [--references F]
 //

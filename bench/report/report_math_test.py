@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The report's arithmetic on made-up sweeps: measured orders (with and without a round-off floor,
 non-convergent, exact), the headline's choice of the best peer mode and its ratios, and the check
-that our curve lies below every peer's (bench/plot_work_precision.py)."""
+that our curve lies below every peer's (bench/report/plot_work_precision.py)."""
 import math
 import os
 import sys

@@ -1,6 +1,6 @@
 // Throughput: the cost of World::step per body against the number of bodies N, for each body
 // model and each integrator of ours, and the memory a World takes per body. One CSV row per
-// (model, integrator, N); bench/plot_throughput.py draws it.
+// (model, integrator, N); bench/report/plot_throughput.py draws it.
 //
 //   build/bench/throughput [--quick] [--out bench/results/throughput.csv] [--max-bodies N]
 //                          [--integrators a,b,...]

@@ -2,7 +2,7 @@
 """Writes bench/REPORT.md from the results directory that scripts/bench-report filled: the figures
 come from plot_work_precision.py, plot_throughput.py and plot_loop.py, the prose from here.
 
-    /usr/bin/python3 bench/write_report.py RESULTS_DIR quick|full
+    /usr/bin/python3 bench/report/write_report.py RESULTS_DIR quick|full
 
 REPORT.md is written beside RESULTS_DIR, its figures linked relative to it.
 """
@@ -138,7 +138,7 @@ def method_section(w):
     return [
         "## How it was measured",
         "",
-        "**The hard cases** (bench/hard_cases.cpp), one free body each:",
+        "**The hard cases** (bench/physics/hard_cases.cpp), one free body each:",
         "",
         *cases,
         "",
@@ -240,7 +240,7 @@ def loop_section(lp, link):
     return [
         "## Loop and network",
         "",
-        "rigidd from outside (bench/loop_bench.cpp): a scene of N racket bodies (I = (1, 2, 3), "
+        "rigidd from outside (bench/loop/loop_bench.cpp): a scene of N racket bodies (I = (1, 2, 3), "
         "the default integrator) at 1 kHz, a state every 10 ticks, publishing on DDS, LCM or "
         "both; a subscriber on each bus and a controller on each bus pushing its own body with a "
         "one-tick wrench every 20 ms plus a random fraction of a tick. Tick lateness is rigidd's "

@@ -6,7 +6,7 @@
 //
 //   build/bench/memory_bench [--bodies 1000000] [--models general,isotropic,...] [--distinct]
 //
-// The worlds are bench/model_worlds.cpp's: bodies of one kind, at the origin, whose initial spins
+// The worlds are bench/physics/model_worlds.cpp's: bodies of one kind, at the origin, whose initial spins
 // take 1000 values. --distinct gives each body its own position and initial velocities, so that
 // nothing of its initial state can be shared (World keeps an initial orientation and velocities
 // once per distinct value): the worst case.

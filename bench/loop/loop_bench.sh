@@ -8,11 +8,11 @@
 #   3. the physics alone (step_bench, same 10^4-body case) and fast mode (the whole loop with both
 #      buses publishing at 100 Hz of simulated time): cost per body-step and their ratio.
 #
-#   bench/loop_bench.sh [--build DIR] [--duration S] [--fast-duration S]
+#   bench/loop/loop_bench.sh [--build DIR] [--duration S] [--fast-duration S]
 #       defaults: build/, 60 s, 20 s. Run as root (scripts/net-setup adds LCM's route on lo).
 set -euo pipefail
 
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build="$here/build"
 duration=60
 fast_duration=20

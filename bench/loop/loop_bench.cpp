@@ -1,4 +1,4 @@
-// rigidd's loop under load, measured from outside as a client sees it (bench/loop_bench.sh runs
+// rigidd's loop under load, measured from outside as a client sees it (bench/loop/loop_bench.sh runs
 // the whole set and compares with step_bench).
 //
 //   loop_bench realtime [--bodies 1000] [--duration 60] [--push-every-ms 20] [--rigidd PATH]
@@ -14,7 +14,7 @@
 //     the wrench path, not its discovery.
 //   loop_bench echo [--bodies 1000] [--duration 60] [--at-once]
 //     the same controllers and subscribers as realtime, against a stand-in for rigidd with no
-//     physics and no hand-offs (bench/echo_server.hpp, this program run as `loop_bench
+//     physics and no hand-offs (bench/loop/echo_server.hpp, this program run as `loop_bench
 //     echo-server`): its tick thread publishes the state itself, right after the tick in which a
 //     wrench arrived. Its wrench-to-state latency is the floor under rigidd's on this machine and
 //     bus; with --at-once the stand-in answers each wrench from the bus's receive thread as it
@@ -55,7 +55,7 @@
 // instead of the racket: the cheapest physics, so that the buses limit the state rate),
 // --loaded-every K (every K-th racket from body 2 on carries a body-fixed thruster from the scene:
 // it costs the step what a body a controller keeps pushing costs; 3: a third), --csv FILE
-// (appends one row per bus, for bench/plot_loop.py), --histogram FILE (appends the tick lateness
+// (appends one row per bus, for bench/report/plot_loop.py), --histogram FILE (appends the tick lateness
 // histogram, see below).
 //
 // Tick lateness histogram: rigidd logs its whole histogram when it stops (a line
@@ -1050,7 +1050,7 @@ int main(int argc, char** argv) {
           "latency, "
           "without rigidd (echo), the machine's timer floor (timer), rigidd's memory "
           "per body (memory). See the comment "
-          "at the top of bench/loop_bench.cpp.\n");
+          "at the top of bench/loop/loop_bench.cpp.\n");
       return 0;
     }
     return run(o);

@@ -3,7 +3,7 @@
 count and bus (histograms and percentiles, beside the machine's own timer), the wrench-to-state
 latency per bus, and the states per second each bus sustains.
 
-    /usr/bin/python3 bench/plot_loop.py [RESULTS_DIR]
+    /usr/bin/python3 bench/report/plot_loop.py [RESULTS_DIR]
 
 Reads loop.csv and loop_histogram.csv (loop_bench --csv, --histogram; one row per run and bus,
 several runs per configuration), writes loop_lateness.png and prints the report's Markdown section.

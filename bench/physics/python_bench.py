@@ -16,7 +16,7 @@
            plus a random fraction of a millisecond, timed from the send call to the arrival of the
            first state in which its body's velocity changed.
 
-  PYTHONPATH=build/clients/python /usr/bin/python3 bench/python_bench.py --build build
+  PYTHONPATH=build/clients/python /usr/bin/python3 bench/physics/python_bench.py --build build
       [--parts step,read,latency] [--rounds 7] [--latency-seconds 20]
 """
 
