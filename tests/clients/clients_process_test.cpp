@@ -345,10 +345,10 @@ TEST_P(RecordPlay, RepublishesAtTheRecordedPaceTimesSpeed) {
   for (int i = 0; i < 24; ++i)
     recorded_ns.push_back(recorded_ns.back() + (i % 2 == 0 ? 100'000'000 : 300'000'000));
   {
-    records::RecordWriter w(file, false);
+    common::RecordWriter w(file, false);
     msgs::LogRecord r;
     r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
-    r.mutable_header()->set_software_version(records::software_version());
+    r.mutable_header()->set_software_version(common::software_version());
     rigid::SceneDescription scene;
     scene.scene_name = "paced";
     scene.dt = 0.001;
@@ -359,7 +359,7 @@ TEST_P(RecordPlay, RepublishesAtTheRecordedPaceTimesSpeed) {
     scene.inertia = {1, 1, 1, 0, 0, 0};
     scene.shape_kinds = {rigid::ShapeKind::kNone};
     scene.shape_dims = {0, 0, 0};
-    records::to_record(scene, 0, *r.mutable_header()->mutable_scene());
+    common::to_record(scene, 0, *r.mutable_header()->mutable_scene());
     w.append(r);
     for (std::size_t i = 0; i < recorded_ns.size(); ++i) {
       rigid::StateFrame f;
@@ -368,7 +368,7 @@ TEST_P(RecordPlay, RepublishesAtTheRecordedPaceTimesSpeed) {
       f.resize(1);
       f.position = {static_cast<double>(i), 0, 0};
       f.orientation = {1, 0, 0, 0};
-      records::to_record(f, recorded_ns[i], *r.mutable_state());
+      common::to_record(f, recorded_ns[i], *r.mutable_state());
       w.append(r);
     }
     w.close();
