@@ -1,5 +1,5 @@
-// A minimal runner for the page's modules tested in node (render_scale_test.mjs,
-// redraw_test.mjs): test(name, body) runs body and prints ok or FAIL with the stack; done() exits
+// A minimal runner for the page's modules tested in node (render_scale_test.mjs, redraw_test.mjs,
+// protocol_test.mjs): test(name, body) runs body and prints ok or FAIL with the stack; done() exits
 // non-zero if any failed.
 let failures = 0;
 
