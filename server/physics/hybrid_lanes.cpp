@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "physics/kernels.hpp"
 #include "physics/math.hpp"
-#include "physics/model.hpp"
 
 namespace rigid::physics::detail {
 
@@ -46,7 +46,7 @@ void put(LaneBatch::L* d, int l, const Vec3& s) {
 template <class G>
 void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool linear, bool coefs,
             bool rot, LaneBatch& b) {
-  const Motion& mo = g.motion[i];
+  const Motion& mo = g.motion(i);
   b.qw[l] = mo.q.w();
   b.qx[l] = mo.q.x();
   b.qy[l] = mo.q.y();
@@ -90,8 +90,8 @@ void gather(const G& g, const Model& m, int i, int l, std::uint32_t flags, bool 
 }
 
 template <class G>
-void scatter(const LaneBatch& b, int l, G& g, int i) {
-  Motion& mo = g.motion[i];
+void scatter(const LaneBatch& b, int l, const G& g, int i) {
+  Motion& mo = g.motion(i);
   mo.q = Quat(b.qw[l], b.qx[l], b.qy[l], b.qz[l]);
   mo.x = Vec3(b.x[0][l], b.x[1][l], b.x[2][l]);
   mo.v = Vec3(b.v[0][l], b.v[1][l], b.v[2][l]);
@@ -99,7 +99,7 @@ void scatter(const LaneBatch& b, int l, G& g, int i) {
 }
 
 template <class G>
-void run(G& g, const Model& m, Range r, bool general) {
+void run(const G& g, const Model& m, Range r, bool general) {
   using C = TripleJump;
   static_assert(C::kStages == LaneStages::kStages);
   LaneStages st{};
@@ -112,18 +112,19 @@ void run(G& g, const Model& m, Range r, bool general) {
   // Zero-initialised: the terms a batch does not copy (gather) hold defined values, never read.
   LaneBatch b{};
   // The drag row (TransTable) whose coefficients every lane of b holds, and the shared entries
-  // (model.hpp: Shared) whose parameters every lane holds, -1 if none: most worlds have one drag
+  // (GroupParams) whose parameters every lane holds, -1 if none: most worlds have one drag
   // rate and a few kinds of body, so the batches after the first need not copy them again.
   int coef_row = -1, lin_entry = -1, rot_entry = -1;
   for (int i = r.begin; i < r.end; i += W) {
     const int n = r.end - i < W ? r.end - i : W;
     std::uint32_t flags = 0;
-    int row = g.linear(i).drag, entry = g.linear.of[i], rentry = g.rot.of[i];
+    const GroupEntries<G::kKind>& e = g.entries;
+    int row = g.linear(i).drag, entry = e.linear[i], rentry = e.rot[i];
     for (int l = 0; l < n; ++l) {
-      flags |= g.loads[i + l].flags;
+      flags |= e.loads[i + l].flags;
       if (g.linear(i + l).drag != row) row = -1;
-      if (g.linear.of[i + l] != entry) entry = -1;
-      if (g.rot.of[i + l] != rentry) rentry = -1;
+      if (e.linear[i + l] != entry) entry = -1;
+      if (e.rot[i + l] != rentry) rentry = -1;
     }
     const bool coefs = row < 0 || row != coef_row;
     const bool linear = entry < 0 || entry != lin_entry;
@@ -147,17 +148,17 @@ void run(G& g, const Model& m, Range r, bool general) {
     }
     for (int l = 0; l < n; ++l) {
       scatter(b, l, g, i + l);
-      g.plan_ok[i + l] = 0;  // the momentum changed: the cached free-rotor plan is stale
+      g.entries.plan_ok[i + l] = 0;  // the momentum changed: the cached free-rotor plan is stale
     }
   }
 }
 
 }  // namespace
 
-void hybrid_loaded_lanes(GenGroup& g, const Model& m, Range r) {
+void hybrid_loaded_lanes(TumblingGroup g, const Model& m, Range r) {
   run(g, m, r, true);
 }
-void hybrid_loaded_lanes(AxiGroup& g, const Model& m, Range r) {
+void hybrid_loaded_lanes(PrecessionGroup g, const Model& m, Range r) {
   run(g, m, r, false);
 }
 

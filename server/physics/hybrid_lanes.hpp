@@ -1,6 +1,6 @@
 // hybrid4's loaded bodies, several at once: the triple-jump composition of integrate_exact.cpp
-// (kick, cheap split drift, kick; TripleJump in model.hpp) for the loaded run of the general and
-// axisymmetric groups, over lanes of W bodies. hybrid_lanes.cpp gathers W bodies from the groups'
+// (kick, cheap split drift, kick; TripleJump in model.hpp) for the loaded run of the tumbling and
+// precession groups, over lanes of W bodies. hybrid_lanes.cpp gathers W bodies from the groups'
 // arrays into a LaneBatch (structure of arrays), runs a kernel on it and scatters the result back.
 // The kernel (hybrid_lanes_kernel.cpp) is compiled once per instruction set, 8 lanes with AVX-512,
 // 4 with AVX2, 2 with the x86-64 baseline (SSE2), and picked at run time for the CPU. It includes
@@ -65,14 +65,6 @@ void step(LaneBatch& b, const LaneStages& st);
 // is built, kept in Model::lanes.
 int pick_lane_width();
 
-// Below: the part that knows the model (hybrid_lanes.cpp).
-struct GenGroup;
-struct AxiGroup;
-struct Model;
-struct Range;
-// Steps the entries [r.begin, r.end) of the group's loaded run by one hybrid4 step of m.dt, with
-// the kernel m.lanes names.
-void hybrid_loaded_lanes(GenGroup& g, const Model& m, Range r);
-void hybrid_loaded_lanes(AxiGroup& g, const Model& m, Range r);
+// The part that knows the groups (hybrid_loaded_lanes) is declared in kernels.hpp.
 
 }  // namespace rigid::physics::detail

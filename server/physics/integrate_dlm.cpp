@@ -31,29 +31,29 @@ inline void axis_rotation(int i, double t, const Vec3& inv_I, Vec3& m, Quat& q) 
 }
 
 template <class G>
-void dlm_group(G& g, const Model& m, Share& sh) {
-  constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
+void dlm_group(G g, const Model& m, Share& sh) {
+  constexpr bool kRotates = G::Traits::kTurns;
   const double h = m.dt;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
-    Motion& s = g.motion[i];
+    Motion& s = g.motion(i);
     const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
+    const auto& rot = rot_or_none(g, i);
     const TransCoef& half = m.tc(lin, kHalf);
     Vec3 rate = Vec3::Zero();
     if constexpr (kRotates) {
-      rate = g.rot(i).drag_rates();
-      sh.note_rotation(m.dt, g.rot(i).omega(s.spin));
+      rate = rot.drag_rates();
+      sh.note_rotation(m.dt, rot.omega(s.spin));
     }
     const auto kick_all = [&] {
       kick(half, lin.accel(L.force_W(s.q)), s.v);
       if constexpr (kRotates) {
-        kick_angular(g.rot(i).spin_rate(L.torque_P(s.q)), rate, 0.5 * h, s.spin);
+        kick_angular(rot.spin_rate(L.torque_P(s.q)), rate, 0.5 * h, s.spin);
       }
     };
     kick_all();
     s.x += h * s.v;
     if constexpr (kRotates) {
-      const auto& rot = g.rot(i);
       if constexpr (std::is_same_v<std::decay_t<decltype(rot)>, DiagRot>) {
         axis_rotation(0, 0.5 * h, rot.inv_I, s.spin, s.q);
         axis_rotation(1, 0.5 * h, rot.inv_I, s.spin, s.q);
@@ -71,11 +71,11 @@ void dlm_group(G& g, const Model& m, Share& sh) {
 
 }  // namespace
 
-void step_dlm(Model& m, Share& sh) {
-  dlm_group(m.point, m, sh);
-  dlm_group(m.iso, m, sh);
-  dlm_group(m.axi, m, sh);
-  dlm_group(m.gen, m, sh);
+void step_dlm(const Model& m, Data& d, Share& sh) {
+  dlm_group(group(m, d, kTranslationGroup), m, sh);
+  dlm_group(group(m, d, kSteadySpinGroup), m, sh);
+  dlm_group(group(m, d, kPrecessionGroup), m, sh);
+  dlm_group(group(m, d, kTumblingGroup), m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -27,13 +27,13 @@ namespace rigid::physics::detail {
 namespace {
 
 // Exact rotation over s, no cache.
-inline void drift(IsoGroup& g, int i, double s) {
-  Motion& b = g.motion[i];
+inline void drift(SteadySpinGroup g, int i, double s) {
+  Motion& b = g.motion(i);
   b.q = b.q * quat_exp(s * b.spin);
   renormalize(b.q);
 }
-inline void drift(AxiGroup& g, int i, double s) {
-  Motion& b = g.motion[i];
+inline void drift(PrecessionGroup g, int i, double s) {
+  Motion& b = g.motion(i);
   const DiagRot& r = g.rot(i);
   AxisymPlan p;
   make_axisym_plan(r.I.x(), r.I.z(), b.spin, s, p);
@@ -42,10 +42,10 @@ inline void drift(AxiGroup& g, int i, double s) {
   b.q = b.q * dq;
   renormalize(b.q);
 }
-inline void drift(GenGroup& g, int i, double s) {
-  Motion& b = g.motion[i];
+inline void drift(TumblingGroup g, int i, double s) {
+  Motion& b = g.motion(i);
   Quat dq;
-  free_rotor_step(g.rotor_of(i), b.spin, s, dq);
+  free_rotor_step(g.rotor(i), b.spin, s, dq);
   b.q = b.q * dq;
   renormalize(b.q);
 }
@@ -54,38 +54,38 @@ inline void drift(GenGroup& g, int i, double s) {
 // reuses until something changes the momentum (invalidate). The step makes them where they are
 // stale, and so does fill_quiet_caches, with these same functions: a cache made ahead is the one
 // the step would have made.
-inline void make_increment(IsoGroup& g, int i, double h) {
-  g.dq.set(i, quat_exp(h * g.motion[i].spin));
-  g.dq_ok[i] = 1;
+inline void make_increment(SteadySpinGroup g, int i, double h) {
+  g.entries.plan.set(i, quat_exp(h * g.motion(i).spin));
+  g.entries.plan_ok[i] = 1;
 }
-inline void make_plan(AxiGroup& g, int i, double h) {
+inline void make_plan(PrecessionGroup g, int i, double h) {
   const DiagRot& r = g.rot(i);
-  make_axisym_plan(r.I.x(), r.I.z(), g.motion[i].spin, h, g.plan[i]);
-  g.plan_ok[i] = 1;
+  make_axisym_plan(r.I.x(), r.I.z(), g.motion(i).spin, h, g.entries.plan[i]);
+  g.entries.plan_ok[i] = 1;
 }
 // Also gives the whole plan, which the store keeps only in part (rotor_plans.hpp).
-inline void make_plan(GenGroup& g, int i, double h, RotorPlan& plan) {
-  make_rotor_plan(g.rotor_of(i), g.motion[i].spin, h, plan);
-  g.plan.set(i, plan);
-  g.plan_ok[i] = 1;
+inline void make_plan(TumblingGroup g, int i, double h, RotorPlan& plan) {
+  make_rotor_plan(g.rotor(i), g.motion(i).spin, h, plan);
+  g.entries.plan.set(i, plan);
+  g.entries.plan_ok[i] = 1;
 }
 
 // Exact rotation over the model's dt, reusing the cached plan while the momentum is untouched.
-inline void drift_cached(AxiGroup& g, int i, double h) {
-  Motion& b = g.motion[i];
-  if (!g.plan_ok[i]) make_plan(g, i, h);
+inline void drift_cached(PrecessionGroup g, int i, double h) {
+  Motion& b = g.motion(i);
+  if (!g.entries.plan_ok[i]) make_plan(g, i, h);
   Quat dq;
-  advance_axisym(g.plan[i], b.spin, dq);
+  advance_axisym(g.entries.plan[i], b.spin, dq);
   b.q = b.q * dq;
   renormalize(b.q);
 }
-inline void drift_cached(GenGroup& g, int i, double h) {
-  Motion& b = g.motion[i];
+inline void drift_cached(TumblingGroup g, int i, double h) {
+  Motion& b = g.motion(i);
   RotorPlan plan;
-  if (!g.plan_ok[i]) {
+  if (!g.entries.plan_ok[i]) {
     make_plan(g, i, h, plan);
   } else {
-    plan = g.plan.get(i);
+    plan = g.entries.plan.get(i);
   }
   Quat dq;
   advance_rotor(plan, b.spin, dq, RotorUpdate::kPinned);
@@ -93,14 +93,10 @@ inline void drift_cached(GenGroup& g, int i, double h) {
   renormalize(b.q);
 }
 
-inline void invalidate(IsoGroup& g, int i) {
-  g.dq_ok[i] = 0;
-}
-inline void invalidate(AxiGroup& g, int i) {
-  g.plan_ok[i] = 0;
-}
-inline void invalidate(GenGroup& g, int i) {
-  g.plan_ok[i] = 0;
+// The cached drift of entry i is stale: its momentum changes.
+template <class G>
+inline void invalidate(G g, int i) {
+  g.entries.plan_ok[i] = 0;
 }
 
 // The translations of the quiet entries [begin, end) (translate with the force f_W alone): runs
@@ -108,13 +104,13 @@ inline void invalidate(GenGroup& g, int i) {
 // (translation_lanes.hpp), one vector a body; the scalar code when the World has no such kernel
 // (width 2, or 1 in tests). Both give the same bits.
 template <class G>
-void translate_quiet(G& g, const Model& m, int begin, int end) {
+void translate_quiet(G g, const Model& m, int begin, int end) {
   if (m.lanes < 4) {
     LinearCursor c(g, m, kFull);
     for (int i = begin; i < end; ++i) {
-      Motion& b = g.motion[i];
+      Motion& b = g.motion(i);
       c.at(i);
-      translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
+      translate(c.tc(), c.lin().accel(g.entries.loads[i].f_W), b.x, b.v);
     }
     return;
   }
@@ -123,30 +119,32 @@ void translate_quiet(G& g, const Model& m, int begin, int end) {
   static_assert(std::is_standard_layout_v<Motion> &&
                 offsetof(Motion, v) == offsetof(Motion, x) + 24 &&
                 offsetof(Motion, spin) == offsetof(Motion, v) + 24);
+  const std::int32_t* rows = g.entries.linear.data();
   for (int i = begin; i < end;) {
-    const std::int32_t k = g.linear.of[i];
+    const std::int32_t k = rows[i];
     int j = i + 1;
     // Eight indices at a time (a loop the compiler vectorises) while they all match, then one by
     // one.
     for (; j + 8 <= end; j += 8) {
       std::int32_t differ = 0;
       for (int l = 0; l < 8; ++l)
-        differ |= g.linear.of[j + l] ^ k;
+        differ |= rows[j + l] ^ k;
       if (differ != 0) break;
     }
-    while (j < end && g.linear.of[j] == k)
+    while (j < end && rows[j] == k)
       ++j;
-    const Linear& lin = g.linear.values[k];
+    const Linear& lin = g.params.linear[k];
     const TransCoef& tc = m.tc(lin, kFull);
     const SharedTranslation st{{lin.g.x(), lin.g.y(), lin.g.z()},
                                {lin.inv_m.x(), lin.inv_m.y(), lin.inv_m.z()},
                                tc.E,
                                tc.p1,
                                tc.q2};
-    char* x = reinterpret_cast<char*>(g.motion[i].x.data());
-    // No force in W on any quiet body of the group: the kernel reads none (Group::quiet_pushed).
-    const char* f =
-        g.quiet_pushed == 0 ? nullptr : reinterpret_cast<const char*>(g.loads[i].f_W.data());
+    char* x = reinterpret_cast<char*>(g.motion(i).x.data());
+    // No force in W on any quiet body of the group: the kernel reads none (Entries::quiet_pushed).
+    const char* f = g.entries.quiet_pushed == 0
+                        ? nullptr
+                        : reinterpret_cast<const char*>(g.entries.loads[i].f_W.data());
     if (m.lanes == 8) {
       lanes8::translate_quiet(x, sizeof(Motion), f, sizeof(LoadHead), st, j - i);
     } else {
@@ -156,13 +154,13 @@ void translate_quiet(G& g, const Model& m, int begin, int end) {
   }
 }
 
-// A point mass never turns: its acceleration is constant over the step, so this is exact. The
-// quiet run's force is f_W alone (translate_quiet); the loaded run's may turn with the body.
-void exact_points(PointGroup& g, const Model& m, const Range (&run)[2]) {
+// The translation group never turns: its acceleration is constant over the step, so this is exact.
+// The quiet run's force is f_W alone (translate_quiet); the loaded run's may turn with the body.
+void exact_translation(TranslationGroup g, const Model& m, const Range (&run)[2]) {
   translate_quiet(g, m, run[0].begin, run[0].end);
   LinearCursor c(g, m, kFull);
   for (int i = run[1].begin; i < run[1].end; ++i) {
-    Motion& b = g.motion[i];
+    Motion& b = g.motion(i);
     c.at(i);
     translate(c.tc(), c.lin().accel(g.load(i).force_W(b.q)), b.x, b.v);
   }
@@ -174,25 +172,25 @@ void exact_points(PointGroup& g, const Model& m, const Range (&run)[2]) {
 // passes (translate_quiet first) was slower at 10^6 axisymmetric bodies and no faster at 10^3
 // (bench/notes/step-kernels.md, "Point masses and spheres").
 template <class G>
-void exact_quiet(G& g, const Model& m, Range r) {
+void exact_quiet(G g, const Model& m, Range r) {
   const double h = m.dt;
   LinearCursor c(g, m, kFull);
   for (int i = r.begin; i < r.end; ++i) {
-    Motion& b = g.motion[i];
+    Motion& b = g.motion(i);
     c.at(i);
-    translate(c.tc(), c.lin().accel(g.loads[i].f_W), b.x, b.v);
+    translate(c.tc(), c.lin().accel(g.entries.loads[i].f_W), b.x, b.v);
     drift_cached(g, i, h);
   }
 }
 
-// exact_quiet for isotropic bodies, whose step is a few operations: a chunk at a time, the
+// exact_quiet for the steady-spin group, whose step is a few operations: a chunk at a time, the
 // translations first (translate_quiet), then the rotations, four at a time with the kernel of the
 // World's width (iso_lanes.hpp) and one by one for the rest. Small chunks: the bodies stay in L1
 // between the passes. Bodies are independent and each path gives the same bits, so neither the
 // split nor the route changes a result. Every increment is made before any is applied: the order
 // of the scalar code per body.
 constexpr int kQuietChunk = 32;  // a multiple of 4 (IncrementBlock)
-void exact_quiet(IsoGroup& g, const Model& m, Range r) {
+void exact_quiet(SteadySpinGroup g, const Model& m, Range r) {
   const double h = m.dt;
   for (int begin = r.begin; begin < r.end; begin += kQuietChunk) {
     const int end = std::min(begin + kQuietChunk, r.end);
@@ -201,21 +199,21 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
       // Eight flags at a time: after the first step they are almost always all set.
       if (i % 8 == 0 && i + 8 <= end) {
         std::uint64_t flags;
-        std::memcpy(&flags, &g.dq_ok[i], sizeof flags);
+        std::memcpy(&flags, &g.entries.plan_ok[i], sizeof flags);
         if (flags == 0x0101010101010101u) {
           i += 7;
           continue;
         }
       }
-      if (!g.dq_ok[i]) make_increment(g, i, h);
+      if (!g.entries.plan_ok[i]) make_increment(g, i, h);
     }
     // The kernel takes whole blocks of increments: the bodies before the first block boundary
     // (none when the range starts on one, as the quiet runs' slices do) and after the last take
     // the scalar code.
-    const auto scalar = [&](int from, int to) {
+    const auto scalar = [&, g](int from, int to) {
       for (int i = from; i < to; ++i) {
-        Motion& b = g.motion[i];
-        b.q = b.q * g.dq.get(i);
+        Motion& b = g.motion(i);
+        b.q = b.q * g.entries.plan.get(i);
         renormalize(b.q);
       }
     };
@@ -226,11 +224,11 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
       static_assert(sizeof(Quat) == 4 * sizeof(double));
       const int n = (end - first) / 4 * 4;
       if (n > 0) {
-        char* q = reinterpret_cast<char*>(g.motion[first].q.coeffs().data());
+        char* q = reinterpret_cast<char*>(g.motion(first).q.coeffs().data());
         if (m.lanes == 8) {
-          lanes8::iso_drift(q, sizeof(Motion), g.dq.block(first), n);
+          lanes8::iso_drift(q, sizeof(Motion), g.entries.plan.block(first), n);
         } else {
-          lanes4::iso_drift(q, sizeof(Motion), g.dq.block(first), n);
+          lanes4::iso_drift(q, sizeof(Motion), g.entries.plan.block(first), n);
         }
       }
       i = first + n;
@@ -239,15 +237,15 @@ void exact_quiet(IsoGroup& g, const Model& m, Range r) {
   }
 }
 
-// exact_quiet for general bodies, their rotation eight at once (rotor_lanes.hpp): a block of
+// exact_quiet for the tumbling group, its rotation eight at once (rotor_lanes.hpp): a block of
 // eight entries (rotor_plans.hpp) inside the range whose cached plans can all step in the kernel
 // is stepped from its block; the others (a plan to make, a still body, a long step, a block cut
 // by the range's ends) take the scalar path. Both give the same bits, so the route a body takes
 // depends on nothing but its own plan and place. The translation does not depend on the rotation
-// of a body with nothing turning it: as for isotropic bodies, a chunk's translations go first
+// of a body with nothing turning it: as for the steady-spin group, a chunk's translations go first
 // (translate_quiet, which reads no loads when no quiet body is pushed), then its rotations; the
 // chunks end on block boundaries, so they cut no block that the range does not.
-void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
+void exact_quiet_lanes(TumblingGroup g, const Model& m, Range r) {
   const int width = m.lanes;
   if (width == 1) return exact_quiet(g, m, r);
   constexpr int kBlock = RotorPlans::kBlock;
@@ -259,9 +257,10 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
     for (int i = begin; i < end;) {
       const bool whole = i % kBlock == 0 && i + kBlock <= end && rotor_block_ready(g, i / kBlock);
       if (whole) {
-        g.plan.prefetch(i / kBlock + 2);
+        g.entries.plan.prefetch(i / kBlock + 2);
         rotor_gather_block(g, i / kBlock, st);
-        rotor_step_lanes(width, st, g.plan.lanes(i / kBlock), g.plan.flags(i / kBlock));
+        rotor_step_lanes(width, st, g.entries.plan.lanes(i / kBlock),
+                         g.entries.plan.flags(i / kBlock));
         rotor_scatter_block(st, i / kBlock, g);
         i += kBlock;
       } else {
@@ -279,9 +278,9 @@ void exact_quiet_lanes(GenGroup& g, const Model& m, Range r) {
 // flow is a one-parameter group: they are merged into one kick of (s_k + s_k+1) / 2. Fewer
 // additions of small increments to w, less round-off, less work.
 template <class Comp, class G, class Drift>
-inline void compose_loaded(G& g, const Model& m, int i, Drift&& drift) {
+inline void compose_loaded(G g, const Model& m, int i, Drift&& drift) {
   const double h = m.dt;
-  Motion& b = g.motion[i];
+  Motion& b = g.motion(i);
   const Linear& lin = g.linear(i);
   const LoadsRef L = g.load(i);
   const auto& rot = g.rot(i);
@@ -308,13 +307,13 @@ struct OneStage {
   static constexpr TransSize kSize[1] = {kFull};
 };
 
-// exact_rotor / exact_rotor4: the quiet run takes the exact free step (general bodies over lanes,
+// exact_rotor / exact_rotor4: the quiet run takes the exact free step (tumbling bodies over lanes,
 // as hybrid4's), the loaded run the composition with exact drifts.
 template <class G>
-void exact_loaded(G& g, const Model& m, bool fourth_order, Range r) {
+void exact_loaded(G g, const Model& m, bool fourth_order, Range r) {
   for (int i = r.begin; i < r.end; ++i) {
     invalidate(g, i);
-    const auto exact = [&](int j, double s) { drift(g, j, s); };
+    const auto exact = [g](int j, double s) { drift(g, j, s); };
     if (fourth_order) {
       compose_loaded<Composition>(g, m, i, exact);
     } else {
@@ -374,8 +373,8 @@ inline void axisym_turn(double a, double c, double s, Vec3& m, Quat& q) {
 // dynamics in the solar system", Astron. J. 107 (1994), symmetric top + correction). Each part is
 // exact and cheap (closed-form precession, an axis turn); the drift X1(s/2) A(s) X1(s/2) is
 // symmetric, second order in s, and exact for an axisymmetric body.
-inline void split_drift(GenGroup& g, int i, double s) {
-  Motion& b = g.motion[i];
+inline void split_drift(TumblingGroup g, int i, double s) {
+  Motion& b = g.motion(i);
   const Vec3& a = g.rot(i).inv_I;
   const double d1 = a.x() - a.y();
   axis_turn(0, d1, 0.5 * s, b.spin, b.q);
@@ -383,87 +382,98 @@ inline void split_drift(GenGroup& g, int i, double s) {
   axis_turn(0, d1, 0.5 * s, b.spin, b.q);
   renormalize(b.q);
 }
-inline void fast_drift(AxiGroup& g, int i, double s) {
-  Motion& b = g.motion[i];
+inline void fast_drift(PrecessionGroup g, int i, double s) {
+  Motion& b = g.motion(i);
   axisym_turn(g.rot(i).inv_I.x(), g.rot(i).inv_I.z(), s, b.spin, b.q);
   renormalize(b.q);
 }
-inline void fast_drift(IsoGroup& g, int i, double s) {
+inline void fast_drift(SteadySpinGroup g, int i, double s) {
   drift(g, i, s);
 }
-inline void fast_drift(GenGroup& g, int i, double s) {
+inline void fast_drift(TumblingGroup g, int i, double s) {
   split_drift(g, i, s);
 }
 
 template <class Comp, class G>
-void hybrid_loaded(G& g, const Model& m, Range r) {
+void hybrid_loaded(G g, const Model& m, Range r) {
   for (int i = r.begin; i < r.end; ++i) {
     invalidate(g, i);
-    compose_loaded<Comp>(g, m, i, [&](int j, double s) { fast_drift(g, j, s); });
+    compose_loaded<Comp>(g, m, i, [g](int j, double s) { fast_drift(g, j, s); });
   }
 }
 
-// The default (TripleJump) steps the loaded axisymmetric and general bodies several at once
-// (hybrid_lanes.hpp); the isotropic ones, every loaded body of the Suzuki candidate, and all of
+// The default (TripleJump) steps the loaded precession and tumbling bodies several at once
+// (hybrid_lanes.hpp); the steady-spin ones, every loaded body of the Suzuki candidate, and all of
 // them with m.lanes == 1 (the scalar reference), one by one.
 template <class Comp>
-void step_hybrid_with(Model& m, Share& sh) {
-  exact_points(m.point, m, sh.run[PointGroup::kIndex]);
-  exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
-  hybrid_loaded<Comp>(m.iso, m, sh.run[IsoGroup::kIndex][1]);
-  exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
-  exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
+void step_hybrid_with(const Model& m, Data& d, Share& sh) {
+  const TranslationGroup translation = group(m, d, kTranslationGroup);
+  const SteadySpinGroup spin = group(m, d, kSteadySpinGroup);
+  const PrecessionGroup precession = group(m, d, kPrecessionGroup);
+  const TumblingGroup tumbling = group(m, d, kTumblingGroup);
+  exact_translation(translation, m, sh.run[translation.kIndex]);
+  exact_quiet(spin, m, sh.run[spin.kIndex][0]);
+  hybrid_loaded<Comp>(spin, m, sh.run[spin.kIndex][1]);
+  exact_quiet(precession, m, sh.run[precession.kIndex][0]);
+  exact_quiet_lanes(tumbling, m, sh.run[tumbling.kIndex][0]);
   if (std::is_same_v<Comp, TripleJump> && m.lanes > 1) {
-    hybrid_loaded_lanes(m.axi, m, sh.run[AxiGroup::kIndex][1]);
-    hybrid_loaded_lanes(m.gen, m, sh.run[GenGroup::kIndex][1]);
+    hybrid_loaded_lanes(precession, m, sh.run[precession.kIndex][1]);
+    hybrid_loaded_lanes(tumbling, m, sh.run[tumbling.kIndex][1]);
   } else {
-    hybrid_loaded<Comp>(m.axi, m, sh.run[AxiGroup::kIndex][1]);
-    hybrid_loaded<Comp>(m.gen, m, sh.run[GenGroup::kIndex][1]);
+    hybrid_loaded<Comp>(precession, m, sh.run[precession.kIndex][1]);
+    hybrid_loaded<Comp>(tumbling, m, sh.run[tumbling.kIndex][1]);
   }
 }
 
 }  // namespace
 
-void step_exact(Model& m, bool fourth_order, Share& sh) {
-  exact_points(m.point, m, sh.run[PointGroup::kIndex]);
-  exact_quiet(m.iso, m, sh.run[IsoGroup::kIndex][0]);
-  exact_loaded(m.iso, m, fourth_order, sh.run[IsoGroup::kIndex][1]);
-  exact_quiet(m.axi, m, sh.run[AxiGroup::kIndex][0]);
-  exact_loaded(m.axi, m, fourth_order, sh.run[AxiGroup::kIndex][1]);
-  exact_quiet_lanes(m.gen, m, sh.run[GenGroup::kIndex][0]);
-  exact_loaded(m.gen, m, fourth_order, sh.run[GenGroup::kIndex][1]);
+void step_exact(const Model& m, Data& d, bool fourth_order, Share& sh) {
+  const TranslationGroup translation = group(m, d, kTranslationGroup);
+  const SteadySpinGroup spin = group(m, d, kSteadySpinGroup);
+  const PrecessionGroup precession = group(m, d, kPrecessionGroup);
+  const TumblingGroup tumbling = group(m, d, kTumblingGroup);
+  exact_translation(translation, m, sh.run[translation.kIndex]);
+  exact_quiet(spin, m, sh.run[spin.kIndex][0]);
+  exact_loaded(spin, m, fourth_order, sh.run[spin.kIndex][1]);
+  exact_quiet(precession, m, sh.run[precession.kIndex][0]);
+  exact_loaded(precession, m, fourth_order, sh.run[precession.kIndex][1]);
+  exact_quiet_lanes(tumbling, m, sh.run[tumbling.kIndex][0]);
+  exact_loaded(tumbling, m, fourth_order, sh.run[tumbling.kIndex][1]);
 }
 
-void fill_quiet_caches(Model& m, Share& sh) {
+void fill_quiet_caches(const Model& m, Data& d, Share& sh) {
   const double h = m.dt;
   std::int64_t made = 0;
-  const Range iso = sh.run[IsoGroup::kIndex][0];
-  for (int i = iso.begin; i < iso.end; ++i) {
-    if (m.iso.dq_ok[i]) continue;
-    make_increment(m.iso, i, h);
+  const SteadySpinGroup spin = group(m, d, kSteadySpinGroup);
+  const Range rs = sh.run[spin.kIndex][0];
+  for (int i = rs.begin; i < rs.end; ++i) {
+    if (spin.entries.plan_ok[i]) continue;
+    make_increment(spin, i, h);
     ++made;
   }
-  const Range axi = sh.run[AxiGroup::kIndex][0];
-  for (int i = axi.begin; i < axi.end; ++i) {
-    if (m.axi.plan_ok[i]) continue;
-    make_plan(m.axi, i, h);
+  const PrecessionGroup precession = group(m, d, kPrecessionGroup);
+  const Range rp = sh.run[precession.kIndex][0];
+  for (int i = rp.begin; i < rp.end; ++i) {
+    if (precession.entries.plan_ok[i]) continue;
+    make_plan(precession, i, h);
     ++made;
   }
-  const Range gen = sh.run[GenGroup::kIndex][0];
+  const TumblingGroup tumbling = group(m, d, kTumblingGroup);
+  const Range rt = sh.run[tumbling.kIndex][0];
   RotorPlan plan;
-  for (int i = gen.begin; i < gen.end; ++i) {
-    if (m.gen.plan_ok[i]) continue;
-    make_plan(m.gen, i, h, plan);
+  for (int i = rt.begin; i < rt.end; ++i) {
+    if (tumbling.entries.plan_ok[i]) continue;
+    make_plan(tumbling, i, h, plan);
     ++made;
   }
   sh.caches_made = made;
 }
 
-void step_hybrid(Model& m, Share& sh, int variant) {
+void step_hybrid(const Model& m, Data& d, Share& sh, int variant) {
   if (variant == 0) {
-    step_hybrid_with<TripleJump>(m, sh);
+    step_hybrid_with<TripleJump>(m, d, sh);
   } else {
-    step_hybrid_with<Composition>(m, sh);
+    step_hybrid_with<Composition>(m, d, sh);
   }
 }
 

@@ -16,11 +16,11 @@ namespace rigid::physics::detail {
 namespace {
 
 template <class G>
-void implicit_gyro_group(G& g, const Model& m, Share& sh) {
-  constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
+void implicit_gyro_group(G g, const Model& m, Share& sh) {
+  constexpr bool kRotates = G::Traits::kTurns;
   const double h = m.dt;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
-    Motion& s = g.motion[i];
+    Motion& s = g.motion(i);
     const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
     const TransCoef& k = m.tc(lin, kFull);
@@ -46,11 +46,11 @@ void implicit_gyro_group(G& g, const Model& m, Share& sh) {
 
 }  // namespace
 
-void step_implicit_gyro(Model& m, Share& sh) {
-  implicit_gyro_group(m.point, m, sh);
-  implicit_gyro_group(m.iso, m, sh);
-  implicit_gyro_group(m.axi, m, sh);
-  implicit_gyro_group(m.gen, m, sh);
+void step_implicit_gyro(const Model& m, Data& d, Share& sh) {
+  implicit_gyro_group(group(m, d, kTranslationGroup), m, sh);
+  implicit_gyro_group(group(m, d, kSteadySpinGroup), m, sh);
+  implicit_gyro_group(group(m, d, kPrecessionGroup), m, sh);
+  implicit_gyro_group(group(m, d, kTumblingGroup), m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -23,13 +23,14 @@ Quat notes_rotate(const Quat& q, const Vec3& w_W, double s) {
 }
 
 template <class G>
-void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
+void notes_group(G g, IntegratorId which, const Model& m, Share& sh) {
   const double h = m.dt;
-  constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
+  constexpr bool kRotates = G::Traits::kTurns;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
-    Motion& s = g.motion[i];
+    Motion& s = g.motion(i);
     const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
+    const auto& rot = rot_or_none(g, i);
     const auto accel = [&](const Quat& q, const Vec3& v) {
       return Vec3(lin.accel(L.force_W(q)) - lin.gamma * v);
     };
@@ -40,7 +41,6 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     const auto alpha_W = [&](const Quat& q, const Vec3& w_W) {
       if constexpr (kRotates) {
         if (!torqued) return Vec3(Vec3::Zero());
-        const auto& rot = g.rot(i);
         const Vec3 w_P = q.conjugate() * w_W;
         return Vec3(q * rot.omega(rot.spin_rate(L.torque_P(q) - rot.k * w_P)));
       } else {
@@ -51,7 +51,7 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     const Quat q0 = s.q;
     Vec3 w0 = Vec3::Zero();  // world frame, the notes' state
     if constexpr (kRotates) {
-      w0 = q0 * g.rot(i).omega(s.spin);
+      w0 = q0 * rot.omega(s.spin);
       sh.note_rotation(m.dt, w0);
     }
     Quat q1 = q0;
@@ -108,7 +108,6 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
         s.x += h * vh;
         s.v = (vh + 0.5 * h * lin.accel(L.force_W(q1))) / (1.0 + 0.5 * h * lin.gamma);
         if constexpr (kRotates) {
-          const auto& rot = g.rot(i);
           const Vec3 w_P = q1.conjugate() * wh + 0.5 * h * rot.omega(rot.spin_rate(L.torque_P(q1)));
           w1 = q1 * w_P.cwiseQuotient(Vec3::Ones() + 0.5 * h * rot.drag_rates());
         }
@@ -119,18 +118,18 @@ void notes_group(G& g, IntegratorId which, const Model& m, Share& sh) {
     }
     if constexpr (kRotates) {
       s.q = q1;
-      s.spin = g.rot(i).spin_of(q1.conjugate() * w1);
+      s.spin = rot.spin_of(q1.conjugate() * w1);
     }
   }
 }
 
 }  // namespace
 
-void step_notes(Model& m, IntegratorId which, Share& sh) {
-  notes_group(m.point, which, m, sh);
-  notes_group(m.iso, which, m, sh);
-  notes_group(m.axi, which, m, sh);
-  notes_group(m.gen, which, m, sh);
+void step_notes(const Model& m, Data& d, IntegratorId which, Share& sh) {
+  notes_group(group(m, d, kTranslationGroup), which, m, sh);
+  notes_group(group(m, d, kSteadySpinGroup), which, m, sh);
+  notes_group(group(m, d, kPrecessionGroup), which, m, sh);
+  notes_group(group(m, d, kTumblingGroup), which, m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -21,13 +21,14 @@ template <class Rot>
 constexpr bool kGyroscopic = std::is_same_v<Rot, DiagRot>;
 
 template <class G>
-void rk4_group(G& g, const Model& m, Share& sh) {
+void rk4_group(G g, const Model& m, Share& sh) {
   const double h = m.dt;
-  constexpr bool kRotates = !std::is_same_v<G, PointGroup>;
+  constexpr bool kRotates = G::Traits::kTurns;
   for (int i = sh.all[G::kIndex].begin; i < sh.all[G::kIndex].end; ++i) {
-    Motion& s = g.motion[i];
+    Motion& s = g.motion(i);
     const Linear& lin = g.linear(i);
     const LoadsRef L = g.load(i);
+    const auto& rot = rot_or_none(g, i);
     // The stages' q drift off the unit sphere; loads that turn with the body are evaluated at the
     // normalised q (one reciprocal, not four divisions), the others need no q at all.
     const bool turns =
@@ -39,7 +40,6 @@ void rk4_group(G& g, const Model& m, Share& sh) {
       d.dx = y.v;
       d.dv = lin.accel(L.force_W(qn)) - lin.gamma * y.v;
       if constexpr (kRotates) {
-        const auto& rot = g.rot(i);
         const Vec3 w = rot.omega(y.spin);
         Vec3 tau = L.torque_P(qn) - rot.k * w;
         if constexpr (kGyroscopic<std::decay_t<decltype(rot)>>) tau -= w.cross(y.spin);
@@ -59,7 +59,7 @@ void rk4_group(G& g, const Model& m, Share& sh) {
       y.q.coeffs() = s.q.coeffs() + c * d.dq;
       return y;
     };
-    if constexpr (kRotates) sh.note_rotation(m.dt, g.rot(i).omega(s.spin));
+    if constexpr (kRotates) sh.note_rotation(m.dt, rot.omega(s.spin));
     const Deriv k1 = f(s);
     const Deriv k2 = f(add(k1, 0.5 * h));
     const Deriv k3 = f(add(k2, 0.5 * h));
@@ -77,11 +77,11 @@ void rk4_group(G& g, const Model& m, Share& sh) {
 
 }  // namespace
 
-void step_rk4(Model& m, Share& sh) {
-  rk4_group(m.point, m, sh);
-  rk4_group(m.iso, m, sh);
-  rk4_group(m.axi, m, sh);
-  rk4_group(m.gen, m, sh);
+void step_rk4(const Model& m, Data& d, Share& sh) {
+  rk4_group(group(m, d, kTranslationGroup), m, sh);
+  rk4_group(group(m, d, kSteadySpinGroup), m, sh);
+  rk4_group(group(m, d, kPrecessionGroup), m, sh);
+  rk4_group(group(m, d, kTumblingGroup), m, sh);
 }
 
 }  // namespace rigid::physics::detail

@@ -25,7 +25,7 @@
 namespace rigid::physics::detail {
 
 // Four bodies' increments dq, component by component, as the kernel reads them (no transpose):
-// IsoGroup::dq keeps them so (model.hpp: IsoIncrements).
+// the steady-spin group keeps them so (groups.hpp: SpinIncrements).
 struct alignas(32) IncrementBlock {
   double x[4], y[4], z[4], w[4];
 };

@@ -94,10 +94,10 @@ struct Loads : LoadMath<Loads> {
   }
 };
 
-// How a group stores its bodies' loads (model.hpp): per body a LoadHead of 32 B, which is all that
-// the many bodies with no torque and no body-fixed force have; the terms of those that do (144 B)
-// in a pool of LoadTerms, whose entry 0 is all zero and shared by every body without terms. A
-// dense Loads per body cost 176 B, most of it zeros (issue 13's memory budget).
+// How a group stores its bodies' loads (groups.hpp: Entries): per body a LoadHead of 32 B, which is
+// all that the many bodies with no torque and no body-fixed force have; the terms of those that do
+// (144 B) in a pool of LoadTerms, whose entry 0 is all zero and shared by every body without terms.
+// A dense Loads per body cost 176 B, most of it zeros (issue 13's memory budget).
 struct LoadHead {
   std::uint32_t flags = 0;
   std::int32_t terms = 0;  // the entry of the group's LoadTerms pool; 0: none

@@ -4,23 +4,23 @@
 
 #include <cstring>
 
-#include "physics/model.hpp"
+#include "physics/kernels.hpp"
 
 namespace rigid::physics::detail {
 
-bool rotor_block_ready(const GenGroup& g, int block) {
+bool rotor_block_ready(const TumblingGroup& g, int block) {
   // plan_ok's eight bytes as one word (each 0 or 1).
   static_assert(RotorPlans::kBlock == 8);
   std::uint64_t ok;
-  std::memcpy(&ok, g.plan_ok.data() + static_cast<std::size_t>(block) * RotorPlans::kBlock,
+  std::memcpy(&ok, g.entries.plan_ok.data() + static_cast<std::size_t>(block) * RotorPlans::kBlock,
               sizeof ok);
-  return ok == 0x0101010101010101u && g.plan.block_ready(block);
+  return ok == 0x0101010101010101u && g.entries.plan.block_ready(block);
 }
 
-void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st) {
+void rotor_gather_block(const TumblingGroup& g, int block, RotorStateLanes& st) {
   const int first = block * RotorPlans::kBlock;
   for (int l = 0; l < RotorPlans::kBlock; ++l) {
-    const Motion& mo = g.motion[first + l];
+    const Motion& mo = g.motion(first + l);
     st.qw[l] = mo.q.w();
     st.qx[l] = mo.q.x();
     st.qy[l] = mo.q.y();
@@ -30,10 +30,10 @@ void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st) {
   }
 }
 
-void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g) {
+void rotor_scatter_block(const RotorStateLanes& st, int block, const TumblingGroup& g) {
   const int first = block * RotorPlans::kBlock;
   for (int l = 0; l < RotorPlans::kBlock; ++l) {
-    Motion& mo = g.motion[first + l];
+    Motion& mo = g.motion(first + l);
     mo.q = Quat(st.qw[l], st.qx[l], st.qy[l], st.qz[l]);
     mo.spin = Vec3(st.m[0][l], st.m[1][l], st.m[2][l]);
   }

@@ -47,7 +47,8 @@ struct alignas(64) RotorStateLanes {
 };
 
 // Lanes [off, off + width) of the state and the plans (width: the kernel's), `flags` the block's
-// eight flags bytes. The plans are read where they are stored (GenGroup::plan, rotor_plans.hpp).
+// eight flags bytes. The plans are read where they are stored (the tumbling group's
+// GroupEntries::plan, rotor_plans.hpp).
 namespace lanes8 {
 void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off);
 }
@@ -58,13 +59,8 @@ namespace lanes2 {
 void rotor_step(RotorStateLanes& st, const RotorPlanLanes& p, const unsigned char* flags, int off);
 }
 
-struct GenGroup;
-// Whether the eight entries of block k (8k .. 8k + 7, all of which exist) have cached plans that
-// are valid and can step in the kernel (made, not still, short steps with nodes).
-bool rotor_block_ready(const GenGroup& g, int block);
-// Block k of g (entries 8k .. 8k + 7) into the state lanes, and back.
-void rotor_gather_block(const GenGroup& g, int block, RotorStateLanes& st);
-void rotor_scatter_block(const RotorStateLanes& st, int block, GenGroup& g);
+// The part that knows the groups (rotor_block_ready, rotor_gather_block, rotor_scatter_block) is
+// declared in kernels.hpp.
 // All eight lanes, by the kernel of `width` lanes (8, 4 or 2).
 void rotor_step_lanes(int width, RotorStateLanes& st, const RotorPlanLanes& p,
                       const unsigned char* flags);

@@ -1,8 +1,8 @@
 // The exact translation of bodies with nothing turning them (translation.hpp's translate with a
 // constant acceleration a = g + (1/m) f_W), one body a 256-bit vector: the quiet point masses
 // and isotropic bodies of hybrid4 and exact_rotor(4), for the consecutive bodies that share one
-// set of translation parameters (Group::linear). (Axisymmetric and general bodies translate body
-// by body beside their longer drifts: integrate_exact.cpp says why.)
+// set of translation parameters (GroupParams::linear). (Axisymmetric and general bodies translate
+// body by body beside their longer drifts: integrate_exact.cpp says why.)
 //
 // Why: Eigen keeps a Vec3 in scalars and pairs, so the scalar code spends about as long moving
 // x, v and f_W between registers as computing; here x (with v's first component) and v (with the

@@ -1,18 +1,28 @@
 // The physics world: a validated, compiled set of rigid bodies and the integrator that steps them.
 //
-// Constant model vs. changing data (as in MuJoCo's mjModel/mjData): the constructor compiles the
-// WorldSpec into per-model contiguous arrays (point mass, isotropic, axisymmetric, general; see
-// model.hpp) and allocates every buffer it will ever use. step() allocates nothing, does no I/O and
-// gives bit-identical results for identical inputs.
+// Constant model vs. changing data (as MuJoCo's mjModel/mjData): the constructor validates the
+// WorldSpec and compiles it (world_build.cpp) into a Model, constant from then on and shared by
+// the World's copies (model.hpp: the step size, the integrator, the translation coefficients, per
+// motion group its parameter tables, per body its group, motion type, allowed degrees of freedom
+// and spec), and a Data (data.hpp: per group its entries, each body's motion, loads and cached
+// exact drift, in contiguous arrays; the pending impulses, the bodies to regroup, the guard's
+// poses, the step count). Every buffer a step may need is allocated then: step() allocates
+// nothing, does no I/O, reads the Model const, and gives bit-identical results for identical
+// inputs, on any number of threads.
 //
-// Pipeline of one step (World::step):
-//   1. apply pending impulses (momentum jumps, then cleared);
-//   2. regroup the bodies whose loads started or stopped turning them (each model's arrays hold its
-//      quiet bodies, then its loaded ones: model.hpp);
-//   3. for each body model, run the integrator's kernel over that model's contiguous arrays, each
-//      thread of the pool (set_threads) over its own slice; the kernel evaluates the loads (scene
-//      loads + applied loads) at every stage it needs them;
-//   4. advance time = step_count * dt (never accumulated, so it does not drift).
+// Pipeline of one step (World::step, world_step.cpp):
+//   1. apply the pending impulses: v += J / m, the spin by r x J where the body has the freedom,
+//      its exact-drift cache made stale; then cleared;
+//   2. regroup: each body whose loads started or stopped turning it since the last step moves to
+//      the quiet or the loaded run of its group (each group's entries hold its quiet bodies, then
+//      its loaded ones: groups.hpp), a swap with the entry at the runs' boundary;
+//   3. integrate: the integrator's kernel (kernels.hpp) over every group, the work cut into
+//      chunks (per group a slice of each run) that the pool's threads claim (set_threads); the
+//      kernel evaluates the loads (scene loads + applied loads) at every stage it needs them;
+//   4. count the body-steps that turned by more than pi (large_rotation_steps), and the step:
+//      time = step_count * dt (never accumulated, so it does not drift);
+//   5. guard the slice of the bodies whose turn it is (guard_phase): each that went non-finite or
+//      absurd is frozen at its last good pose, the others' poses are kept as their last good.
 #pragma once
 
 #include <cstdint>
@@ -91,11 +101,11 @@ class World {
   // threads as a step. Returns how many caches it made (0 for integrators that keep none).
   int prepare_step();
 
-  // The threads that step the world: each body model's bodies are split over a fixed pool, created
-  // here once (no thread is created or lock taken while stepping beyond the pool's hand-over).
-  // Small worlds (fewer than kMinBodiesPerThread bodies a thread) are stepped on the calling thread
-  // alone. States are bit-identical for any count. n = 0: the hardware concurrency. Throws
-  // std::invalid_argument for n < 0.
+  // The threads that step the world: each motion group's bodies are split over a fixed pool,
+  // created here once (no thread is created or lock taken while stepping beyond the pool's
+  // hand-over). Small worlds (fewer than kMinBodiesPerThread bodies a thread) are stepped on the
+  // calling thread alone. States are bit-identical for any count. n = 0: the hardware concurrency.
+  // Throws std::invalid_argument for n < 0.
   static constexpr int kMinBodiesPerThread = 256;
   // A step on several threads is cut into chunks of at least kBodiesPerChunk bodies, at most
   // kChunksPerThread per thread, which the threads claim one at a time (physics/pool.hpp).
@@ -135,7 +145,7 @@ class World {
   Quat q_BP(int id) const;
 
   BodyState state(int id) const;
-  // Every body's state(id), bit for bit, written into rows: one pass over each model's entries
+  // Every body's state(id), bit for bit, written into rows: one pass over each group's entries
   // instead of a lookup per body (the daemon's state message and Python's arrays read this).
   // A world of at least 2 kBodiesPerWriteChunk bodies is written on the step's threads
   // (set_threads) as well, in chunks of about that many: like step(), it must not run beside

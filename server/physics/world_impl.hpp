@@ -1,0 +1,144 @@
+// World's inside, shared by the files that implement it, one concern each:
+//   world_build.cpp   building the Model and the Data from a WorldSpec, in named stages;
+//   world_groups.cpp  where a body's entry is, its loads, and moving it between its group's runs;
+//   world_step.cpp    the step's stages, the threads that run them, and the guard;
+//   world_access.cpp  states, loads and impulses in and out, and every other accessor.
+// The Model is built once and shared, constant, by the World and its copies; each copy has its
+// own Data.
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "physics/data.hpp"
+#include "physics/kernels.hpp"
+#include "physics/model.hpp"
+#include "physics/pool.hpp"
+#include "physics/world.hpp"
+
+namespace rigid::physics {
+
+struct World::Impl {
+  std::shared_ptr<const detail::Model> model_ptr;
+  detail::Data data;
+  // The step's threads and their shares of the work (set_threads).
+  int threads = 1;
+  std::vector<detail::Share> shares;
+  struct PoolHandle {
+    std::unique_ptr<detail::Pool> pool;
+    PoolHandle() = default;
+    PoolHandle(PoolHandle&&) noexcept = default;
+    PoolHandle& operator=(PoolHandle&&) noexcept = default;
+    // A copied World gets a pool of its own.
+    PoolHandle(const PoolHandle& o)
+        : pool(o.pool ? std::make_unique<detail::Pool>(o.pool->size()) : nullptr) {}
+    PoolHandle& operator=(const PoolHandle& o) {
+      if (this != &o) pool = o.pool ? std::make_unique<detail::Pool>(o.pool->size()) : nullptr;
+      return *this;
+    }
+  } pool;
+
+  const detail::Model& model() const { return *model_ptr; }
+  int body_count() const { return static_cast<int>(data.entry.size()); }
+  void check_id(int id) const {
+    if (id < 0 || id >= body_count()) {
+      throw std::out_of_range("no body with id " + std::to_string(id));
+    }
+  }
+
+  // --- world_build.cpp ---
+  // The stages validate, classify and intern, then these two.
+  void build(const WorldSpec& spec);
+  void build_loads(const WorldSpec& spec, detail::Model& model);
+  void place_bodies(int threads_wanted);
+  // A copied vector keeps its elements but not its capacity: what stepping relies on having
+  // reserved (no allocation while stepping) is reserved again in a copy.
+  void reserve_scratch();
+
+  // --- world_groups.cpp ---
+  // f(group view, entry) for body id's group and entry in it: the view's kind is a compile-time
+  // constant inside f (detail::visit).
+  template <class F>
+  decltype(auto) with_body(int id, F&& f) {
+    return detail::visit(model().motion[id], [&](auto k) -> decltype(auto) {
+      return f(detail::group(model(), data, k), static_cast<int>(data.entry[id]));
+    });
+  }
+  template <class F>
+  decltype(auto) with_body(int id, F&& f) const {
+    return detail::visit(model().motion[id], [&](auto k) -> decltype(auto) {
+      return f(detail::group(model(), data, k), static_cast<int>(data.entry[id]));
+    });
+  }
+  detail::Motion& motion(int id) {
+    return with_body(id, [](auto g, int i) -> detail::Motion& { return g.motion(i); });
+  }
+  const detail::Motion& motion(int id) const {
+    return with_body(id, [](auto g, int i) -> const detail::Motion& { return g.motion(i); });
+  }
+  const detail::Linear& linear(int id) const {
+    return with_body(id, [](auto g, int i) -> const detail::Linear& { return g.linear(i); });
+  }
+  detail::LoadsRef load(int id) const {
+    return with_body(id, [](auto g, int i) { return g.load(i); });
+  }
+  detail::Loads load_value(int id) const {
+    return with_body(id, [](auto g, int i) { return g.entries.load_value(i); });
+  }
+  void set_loads(int id, const detail::Loads& v, std::int32_t shared_terms = 0) {
+    with_body(id, [&](auto g, int i) { g.entries.set_load(i, v, shared_terms); });
+  }
+  // Body id's loads back to the scene's (SceneLoads entry b, or none: -1), its terms shared.
+  void set_scene_loads(int id, int b);
+  // Called after anything that may change whether a body's loads leave it quiet.
+  void loads_changed(int id, bool was_quiet) {
+    if (load(id).quiet() != was_quiet && !data.regroup_flag[id]) {
+      data.regroup_flag[id] = 1;
+      data.regroup_ids.push_back(id);  // within the reserved capacity
+    }
+  }
+  // Puts body id in the run of its group that its loads call for; every body that may have moved.
+  void place(int id);
+  void regroup();
+  // Body id's exact-drift cache is stale (its momentum changed).
+  void invalidate_cache(int id);
+
+  // --- world_step.cpp ---
+  void set_threads(int n);
+  // The most chunks a step is cut into (World::kChunksPerThread; what the pool can count).
+  int max_chunks() const {
+    return static_cast<int>(
+        std::min<long>(long{kChunksPerThread} * threads, detail::Pool::kMaxChunks));
+  }
+  // How many chunks this world's steps are cut into (1: the calling thread alone).
+  int step_parts() const;
+  void plan_shares(int parts);
+  // Runs fn(impl, share) for every share [0, parts), over the pool when there is more than one.
+  void run_parts(int parts, void (*fn)(Impl&, detail::Share&), bool another_follows);
+  void run_share(detail::Share& sh);
+  void step(bool another_follows);
+  int prepare_step();
+  void apply_pending_impulses();
+  // The guard's check of the bodies whose turn it is after step data.steps (World::guard_phase).
+  void guard();
+  // The ids [begin, end) checked at phase k (0 .. kGuardEvery - 1).
+  std::pair<int, int> guard_slice(int k) const {
+    const long n = body_count();
+    const int j = (k + kGuardEvery - 1) % kGuardEvery;
+    return {static_cast<int>(n * j / kGuardEvery), static_cast<int>(n * (j + 1) / kGuardEvery)};
+  }
+  void freeze(int id);
+  void thaw_all();
+
+  // --- world_access.cpp ---
+  void set_state(int id, const BodyState& s);
+  // q_BP of body id: the identity for the groups whose P is B.
+  Quat rot_BP(int id) const;
+  Vec3 angular_momentum_P(int id) const;
+  Vec3 omega_P(int id) const;
+};
+
+}  // namespace rigid::physics
