@@ -1,0 +1,33 @@
+#include "contact_run.hpp"
+
+#include <cmath>
+
+namespace rigid::bench::peers {
+
+long contact_steps(const ContactCase& c, double dt) {
+  return std::lround(c.duration / dt);
+}
+
+ContactRow contact_accuracy_run(const ContactEngine& engine, const ContactCase& c,
+                                const std::string& mode, double dt) {
+  const auto world = engine.make_world(c, mode, dt, 1, true);
+  ContactScorer score(c, dt, engine.locates_events());
+  const long n = contact_steps(c, dt);
+  for (long i = 1; i <= n && !score.failed(); ++i) {
+    world->step();
+    score.observe(i, world->state(0), world->contact(0), world->events(0));
+  }
+  return score.result();
+}
+
+double contact_cost_run(const ContactEngine& engine, const ContactCase& c, const std::string& mode,
+                        double dt, int copies) {
+  const long n = contact_steps(c, dt);
+  const auto world = engine.make_world(c, mode, dt, copies, false);
+  const double t0 = thread_cpu_ns();
+  for (long i = 0; i < n; ++i)
+    world->step();
+  return (thread_cpu_ns() - t0) / (static_cast<double>(n) * copies);
+}
+
+}  // namespace rigid::bench::peers

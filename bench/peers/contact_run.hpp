@@ -1,0 +1,24 @@
+// One (contact case, engine mode, dt) measured: an accuracy run of one copy scored by the
+// ContactScorer, and cost runs of many copies timed in thread CPU time.
+#pragma once
+
+#include <string>
+
+#include "contact_engine.hpp"
+#include "contact_score.hpp"
+
+namespace rigid::bench::peers {
+
+// Copy 0 of a one-copy world, recorded and scored after every step.
+ContactRow contact_accuracy_run(const ContactEngine& engine, const ContactCase& c,
+                                const std::string& mode, double dt);
+
+// Thread CPU time per body-step (ns) of one fresh world of `copies` copies stepped for the case's
+// duration (built outside the timing, not recording).
+double contact_cost_run(const ContactEngine& engine, const ContactCase& c, const std::string& mode,
+                        double dt, int copies);
+
+// The number of steps a case takes at dt.
+long contact_steps(const ContactCase& c, double dt);
+
+}  // namespace rigid::bench::peers

@@ -1,0 +1,81 @@
+// Ours behind the contact interface: a physics::World built from the case's WorldSpec (the body's
+// collision shape and surface, the plane as a static part), timed and scored by the same code as
+// the peers.
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "contact_engine.hpp"
+
+namespace rigid::bench::peers {
+
+physics::WorldSpec contact_world_spec(const ContactCase& c, const std::string& integrator,
+                                      double dt, int copies) {
+  physics::WorldSpec spec;
+  spec.g_W = Vec3(0, 0, -c.g);
+  spec.dt = dt;
+  spec.integrator = integrator;
+  // A pair takes the larger restitution and the geometric mean of the frictions
+  // (contact/static_part.hpp): the plane with the body's surface gives the pair exactly it.
+  const physics::Surface surface{c.restitution, c.friction};
+  for (int k = 0; k < copies; ++k) {
+    physics::BodySpec b;
+    b.name = "b" + std::to_string(k);
+    b.mass = c.mass;
+    b.I_B = principal_moments(c).asDiagonal();
+    b.p_WBo = c.start.p_WBo;  // our bodies only touch static parts: copies may overlap
+    b.q_WB = c.start.q_WB;
+    b.v_WBo = c.start.v_WBo;
+    b.w_WB = c.start.w_WB;
+    b.shape = shape_of(c);
+    b.surface = surface;
+    spec.bodies.push_back(b);
+  }
+  if (c.plane) {
+    spec.planes.push_back(physics::PlaneSpec{"ground", Vec3::UnitZ(), 0.0, surface});
+  }
+  return spec;
+}
+
+namespace {
+
+class RigidContactWorld final : public ContactWorld {
+ public:
+  explicit RigidContactWorld(const physics::WorldSpec& spec) : world_(spec) {}
+  void step() override { world_.step(); }
+  // A body the World's guard froze (it diverged) reads as NaN, as for the peers.
+  BodyState state(int i) const override {
+    return world_.is_frozen(i) ? nan_state() : world_.state(i);
+  }
+  StepContact contact(int) const override { return {}; }
+
+ private:
+  physics::World world_;
+};
+
+class RigidContactEngine final : public ContactEngine {
+ public:
+  std::string name() const override { return "rigid"; }
+  std::string version() const override { return "rigid (this tree)"; }
+  std::vector<std::string> modes() const override {
+    return {std::string(physics::default_integrator().name)};
+  }
+  std::string settings(const std::string& mode) const override {
+    return "physics::World from the case's WorldSpec (the body's shape and surface, the plane as "
+           "a static part with the same surface), integrator " +
+           mode;
+  }
+  std::unique_ptr<ContactWorld> make_world(const ContactCase& c, const std::string& mode, double dt,
+                                           int copies, bool) const override {
+    if (!physics::find_integrator(mode)) throw std::runtime_error("rigid: unknown mode " + mode);
+    return std::make_unique<RigidContactWorld>(contact_world_spec(c, mode, dt, copies));
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<ContactEngine> make_rigid_contact_engine() {
+  return std::make_unique<RigidContactEngine>();
+}
+
+}  // namespace rigid::bench::peers
