@@ -9,6 +9,7 @@ REPORT.md is written beside RESULTS_DIR, its figures linked relative to it.
 import os
 import sys
 
+import plot_contacts
 import plot_loop
 import plot_throughput
 import plot_work_precision as wp
@@ -227,6 +228,64 @@ def throughput_section(t, link):
     ]
 
 
+def contacts_section(c, link):
+    if not c:
+        return ["## Contacts with a static plane", "",
+                "Not run (`scripts/bench-report --parts contacts` runs it).", ""]
+    engines = "; ".join(v for k, v in c["meta"].items() if k.startswith("engine "))
+    lines = [
+        "## Contacts with a static plane",
+        "",
+        "The five classic cases (bench/peers/contact_case.cpp), one body over the plane z = 0 "
+        "under gravity 9.81, each at dt = 1 ms, 1/240 s and 1/60 s, for ours and for every mode "
+        "of MuJoCo, Bullet and ODE, all in one run of bench/peers/peer_contacts (" + engines +
+        "). How each engine is driven, and every rule below, in "
+        "[bench/peers/README.md](peers/README.md#contacts).",
+        "",
+        *[f"- `{name}`: {desc}" for name, desc, _ in c["cases"]],
+        "",
+        "**Impacts**: an engine that locates them (ours) reports their times; for the others, "
+        "the middle of the step over which the centre's vertical velocity turns from down to up "
+        "(the step with the impulse for Bullet and ODE, the deepest compression for MuJoCo's "
+        "spring), once the descent reached 0.01 m/s. The k-th impact is compared with the closed "
+        "form's k-th: sqrt(2 (h - r) / g), then every 2 e^k sqrt(2 (h - r) / g). **Rest**: ours "
+        "by its resting event, against t1 (1 + e) / (1 - e) and v0 / (mu g); the peers by the "
+        "first state after the last one whose speed bound |v| + |w| r is at least 0.01 m/s, "
+        "against what the same rule finds on the exact motion at the same dt. **Penetration**: "
+        "of the body's lowest point below the plane, from its state after every step. **Apex**: "
+        "z + vz^2 / 2g at the non-penetrating state nearest it. **Energy rise**: the largest rise "
+        "of the energy above its lowest value so far, over non-penetrating states (a soft "
+        "contact's stored energy is not counted as lost and regained). **Drift**: the largest "
+        "displacement of a corner of the resting cube from t = 1 s on (each engine settles "
+        "first). **Cost**: thread CPU time per body-step of a world of copies of the case's body "
+        "stepped for the case's duration (this run: " + c["meta"].get("bodies per cost run", "?")
+        + "), the timed runs of every mode interleaved; *free body*: the same body without the "
+        "plane, timed beside it in the same runs.",
+        "",
+    ]
+    if c["falls_through"]:
+        lines += ["**Ours in this tree has no contact stage**: its World ignores the plane and "
+                  "the body falls through it, so ours' figures below measure that fall, and the "
+                  "targets fail by construction. The peers' figures stand.", ""]
+    lines += [
+        "### Targets",
+        "",
+        c["targets_md"],
+        "",
+        "### Side by side (figures at 1 ms / 1/240 s / 1/60 s)",
+        "",
+        "*never*: no impact, fewer than 12 bounces, or never at rest in the run.",
+        "",
+        c["side_md"],
+        "",
+        f"![contacts]({link}/contacts.png)",
+        "",
+    ]
+    for name, desc, table in c["cases"]:
+        lines += [f"### {name}", "", desc + ".", "", table, ""]
+    return lines
+
+
 def loop_section(lp, link):
     if not lp:
         return ["## Loop and network", "", "Not run (the loop parts need root for LCM's route).",
@@ -287,6 +346,7 @@ QUICK_OMITS = [
     "use 1/4 of the steps (500 000 and 250 000 long-double RK4 steps);",
     "- throughput: N up to 10^5 (not 10^6), our default and rk4 only (not all 9 integrators), "
     "3 batches of >= 5 ms instead of 5 of >= 20 ms;",
+    "- contacts: 4 bodies per cost run instead of 32, one timed run instead of the median of 5;",
     "- loop: 3 s runs, one per configuration, 1000 bodies on each bus and 10 and 10^4 on both "
     "(the full run: 20 s, 3 runs, every body count on every bus); the timer floor 2 s; the bus "
     "rates at 1000 bodies only, 2 s each.",
@@ -301,11 +361,13 @@ def main():
     w = wp.section(results)
     t = plot_throughput.section(results)
     lp = plot_loop.section(results)
-    lines = header(results, mode, [w["meta"], w["peers_meta"], t and t["meta"]])
+    c = plot_contacts.section(results)
+    lines = header(results, mode, [w["meta"], w["peers_meta"], t and t["meta"], c and c["meta"]])
     lines += headline_section(w)
     lines += method_section(w)
     lines += per_case_section(w, link)
     lines += throughput_section(t, link)
+    lines += contacts_section(c, link)
     lines += loop_section(lp, link)
     lines += ["## What quick leaves out", "",
               "`--quick` runs every part, every case and every peer mode, in under two minutes "
@@ -314,7 +376,8 @@ def main():
               "`scripts/bench-report` (as root, on a quiet machine; `--quick` for the short "
               "variant, `--parts` for a subset). The data are in "
               f"[{link}/]({link}/): `work_precision.csv` (ours), `peers.csv` (the peers and our "
-              "default, same run), `headline.csv`, `orders.csv`, `throughput.csv`, `loop.csv`, "
+              "default, same run), `headline.csv`, `orders.csv`, `throughput.csv`, `contacts.csv`, "
+              "`loop.csv`, "
               "`loop_histogram.csv`, `parts.csv`; each `.meta` file says where its data come "
               "from.", ""]
     with open(os.path.join(report_dir, "REPORT.md"), "w") as f:
