@@ -8,6 +8,7 @@ import sys
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_contacts as pc  # noqa: E402
 import plot_work_precision as wp  # noqa: E402
 
 STEPS = [1 / 60, 1 / 120, 1 / 240, 1 / 500, 1 / 1000, 1 / 2000, 1 / 5000, 1 / 10000]
@@ -88,6 +89,68 @@ class Headline(unittest.TestCase):
         beaten, total, misses = wp.below_check(rows, "all")
         self.assertEqual((beaten, total, misses), (total, 3 * len(STEPS), []))
         self.assertEqual(wp.ours_in_run(rows), [wp.DEFAULT, "rk4"])
+
+
+def contact_rows(engine_mode, **figures):
+    """One row per case and step of peer_contacts' CSV, every figure exact unless given."""
+    out = []
+    for case in ("elastic_sphere", "bouncing_sphere", "resting_cube", "sliding_cube",
+                 "tumbling_cube"):
+        for dt in pc.STEPS:
+            r = {"case": case, "engine_mode": engine_mode, "dt": repr(dt), "impacts": "12",
+                 "exact_impacts": "12", "first_impact_error_s": "0",
+                 "later_impact_error_s": "1e-13", "max_penetration_m": "0",
+                 "apex_error_m": "-2e-15", "energy_error_rel": "0", "max_energy_rise_rel": "0",
+                 "rest_rule": "event", "rest_time_error_s": "0", "rest_time_s": "1.2",
+                 "stop_distance_error_m": "0", "drift_m": "0", "final_tilt_rad": "0",
+                 "max_contact_points": "1", "blown_up": "0", "ns_per_body_step": "40",
+                 "free_ns_per_body_step": "40"}
+            r.update({k: v for k, v in figures.items() if not isinstance(v, dict)})
+            r.update(figures.get(case, {}))
+            out.append(r)
+    return out
+
+
+class ContactTargets(unittest.TestCase):
+    def verdicts(self, rows):
+        return [line.rsplit("|", 2)[-2].strip() for line in pc.targets_md(rows).splitlines()[2:]]
+
+    def test_exact_and_cheap_passes_every_target(self):
+        rows = contact_rows("rigid_hybrid4") + contact_rows("ode_step", first_impact_error_s="1e-4")
+        self.assertEqual(set(self.verdicts(rows)), {"PASS"})
+        self.assertFalse(pc.falls_through(rows))
+
+    def test_each_bound_fails_past_it(self):
+        late = contact_rows("rigid_hybrid4", bouncing_sphere={"later_impact_error_s": "-2e-6"})
+        self.assertEqual(self.verdicts(late)[0], "**FAIL**")
+        self.assertEqual(self.verdicts(late).count("PASS"), len(self.verdicts(late)) - 1)
+        never = contact_rows("rigid_hybrid4", elastic_sphere={"first_impact_error_s": "inf",
+                                                              "impacts": "0"})
+        self.assertEqual(self.verdicts(never)[0], "**FAIL**")
+        self.assertIn("never", pc.targets_md(never))
+        self.assertTrue(pc.falls_through(never))
+        deep = contact_rows("rigid_hybrid4", tumbling_cube={"max_penetration_m": "2e-9"})
+        self.assertEqual(self.verdicts(deep)[1], "**FAIL**")
+
+    def test_costs_and_the_resting_body_against_a_free_one(self):
+        sphere = contact_rows("rigid_hybrid4", elastic_sphere={"ns_per_body_step": "101"})
+        self.assertEqual(self.verdicts(sphere)[-3:], ["**FAIL**", "PASS", "PASS"])
+        box = contact_rows("rigid_hybrid4", sliding_cube={"ns_per_body_step": "501"})
+        self.assertEqual(self.verdicts(box)[-3:], ["PASS", "**FAIL**", "PASS"])
+        resting = contact_rows("rigid_hybrid4", resting_cube={"ns_per_body_step": "44"})
+        self.assertEqual(self.verdicts(resting)[-1], "**FAIL**")
+        # The peers' figures never count for ours.
+        peer = contact_rows("rigid_hybrid4") + contact_rows("mujoco_rk4", ns_per_body_step="9000")
+        self.assertEqual(set(self.verdicts(peer)), {"PASS"})
+
+    def test_side_by_side_cells(self):
+        rows = contact_rows("ode_step", elastic_sphere={"first_impact_error_s": "1.47e-4"},
+                            bouncing_sphere={"rest_time_error_s": "inf"})
+        self.assertEqual(pc.cell(rows, "elastic_sphere", "ode_step", "first_impact_error_s", 1e3),
+                         "+0.147 / +0.147 / +0.147")
+        self.assertEqual(pc.cell(rows, "bouncing_sphere", "ode_step", "rest_time_error_s", 1e3),
+                         "never / never / never")
+        self.assertEqual(pc.cell(rows, "sliding_cube", "bullet_tuned", "drift_m", 1), "- / - / -")
 
 
 if __name__ == "__main__":

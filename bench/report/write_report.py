@@ -200,10 +200,10 @@ def throughput_section(t, link):
         "## Throughput: cost per body-step against the number of bodies",
         "",
         f"One World of N bodies (N = 1 to {t['nmax']:,}) of one body model, dt = 1 ms, stepped on "
-        "one thread; thread CPU time per body-step, median of batches of steps (bench/throughput."
-        "cpp). The models are the four a World compiles bodies into, torque-free, and the general "
-        "body again under an off-centre body-fixed force (`general_forced`), where the loads are "
-        "evaluated at every stage. " + "; ".join(
+        "one thread; thread CPU time per body-step, median of batches of steps (bench/physics/"
+        "throughput.cpp). The models are the four a World compiles bodies into, torque-free, and "
+        "the general body again under an off-centre body-fixed force (`general_forced`), where "
+        "the loads are evaluated at every stage. " + "; ".join(
             f"`{k[6:]}`: {v}" for k, v in t["meta"].items() if k.startswith("model ")) + ".",
         "",
         f"![throughput]({link}/throughput.png)",

@@ -3,7 +3,7 @@
 ours, the engines side by side at the three steps, a table per case, and a plot of error against
 cost (contacts.png).
 
-    /usr/bin/python3 bench/plot_contacts.py [RESULTS_DIR]      (Debian's python3-matplotlib)
+    /usr/bin/python3 bench/report/plot_contacts.py [RESULTS_DIR]      (Debian's python3-matplotlib)
 
 Writes RESULTS_DIR/contacts.png and prints the section's Markdown.
 """
