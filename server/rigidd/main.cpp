@@ -24,6 +24,7 @@
 #include "scene/scene.hpp"
 #include "transport/dds/dds_transport.hpp"
 #include "transport/lcm/lcm_transport.hpp"
+#include "transport/ros/ros_face.hpp"
 #include "util/signal_watcher.hpp"
 
 namespace {
@@ -66,6 +67,11 @@ std::string buses(const rigidd::RigiddOptions& o, const std::string& lcm_url) {
     text += std::string(text.empty() ? "" : ", ") + "lcm " + lcm_url +
             " (no security: trusts every process that reaches it)";
   }
+  if (o.ros) {
+    text += ", ROS 2 node " + (o.ros_namespace.empty() ? std::string() : o.ros_namespace) +
+            "/rigidd (" +
+            (o.ros_distro == transport::ros::Distro::kHumble ? "humble" : "iron and later") + ")";
+  }
   if (!o.controls) text += ", controls off";
   if (!o.prefix.empty()) text += ", prefix " + o.prefix;
   return text;
@@ -103,6 +109,23 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
     server_options.scene_text = scene_text(scene.path);
   }
   loop::Server server(scene, server_options, log);
+  // --ros: what ROS's face needs of the scene (transport/ros/ros_face.hpp).
+  transport::ros::Options ros;
+  transport::ros::Plan ros_plan;
+  if (options.ros) {
+    ros.ns = options.ros_namespace;
+    ros.distro = options.ros_distro;
+    ros.mode = options.mode;
+    ros.secure = !options.security.empty();
+    ros.wrench_ttl = scene.limits.max_ttl;
+    ros.body_names.reserve(scene.world.bodies.size());
+    for (const physics::BodySpec& b : scene.world.bodies)
+      ros.body_names.push_back(b.name);
+    // The scene's static parts go to /tf_static (ros.static_frames) once scenes have them.
+    ros_plan = transport::ros::plan(ros);
+    for (const std::string& note : ros_plan.notes)
+      log.line("--ros: " + note);
+  }
   // The server keeps what it needs of the scene (the world its compact copy of the bodies): the
   // rest, ~400 B a body, goes now rather than stay resident for the daemon's life.
   const std::size_t bodies = scene.world.bodies.size();
@@ -113,7 +136,8 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   if (options.dds) {
     // Its own largest samples (a state: ~110 B a body; a scene: ~300 B a body) with room to
     // spare, and at least 1 MiB: anything larger from outside is dropped before reassembly.
-    transport::dds::limit_sample_size(std::max<std::size_t>(1 << 20, 2 * (400 * bodies + 65536)));
+    transport::dds::limit_sample_size(std::max<std::size_t>(
+        1 << 20, 2 * std::max(400 * bodies + 65536, ros_plan.largest_sample)));
   }
   const std::string lcm_url =
       options.lcm_url.empty() ? std::string(transport::lcm::kDefaultUrl) : options.lcm_url;
@@ -125,6 +149,7 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
       o.prefix = options.prefix;
       o.reliable_state = options.reliable_state;
       o.security = options.security;
+      if (options.ros) o.add_on = transport::ros::make_face(ros);
       server.add_transport(transport::dds::make_transport(o, server.receiver(rigid::Bus::kDds)));
     }
     if (options.lcm) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "transport/ros/ros_names.hpp"
 #include "transport/topic.hpp"
 
 namespace rigid::rigidd {
@@ -45,6 +46,7 @@ void parse_transports(std::string_view list, RigiddOptions& o) {
 
 RigiddOptions parse_options(std::span<const std::string_view> args) {
   RigiddOptions o;
+  bool ros_options = false;  // --ros-namespace or --ros-distro given
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string_view arg = args[i];
     if (arg == "--help" || arg == "-h") {
@@ -67,6 +69,10 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       o.rt_workers = true;
       continue;
     }
+    if (arg == "--ros") {
+      o.ros = true;
+      continue;
+    }
     if (arg.empty() || arg[0] != '-') {
       throw UsageError("unexpected argument " + quoted(arg) + " (the scene is given with --scene)");
     }
@@ -78,7 +84,8 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
     }
     if (name != "--scene" && name != "--transport" && name != "--mode" && name != "--dds-domain" &&
         name != "--lcm-url" && name != "--prefix" && name != "--spin-us" && name != "--journal" &&
-        name != "--security" && name != "--controls" && name != "--threads") {
+        name != "--security" && name != "--controls" && name != "--threads" &&
+        name != "--ros-namespace" && name != "--ros-distro") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -136,6 +143,24 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
       } else {
         throw UsageError("--controls: expected on or off, got " + quoted(*value));
       }
+    } else if (name == "--ros-namespace") {
+      std::string why;
+      const std::optional<std::string> ns = transport::ros::normalize_namespace(*value, &why);
+      if (!ns)
+        throw UsageError("--ros-namespace: " + quoted(*value) + " is not a ROS namespace: " + why);
+      o.ros_namespace = *ns;
+      ros_options = true;
+    } else if (name == "--ros-distro") {
+      if (*value == "humble") {
+        o.ros_distro = transport::ros::Distro::kHumble;
+      } else if (*value == "iron" || *value == "jazzy" || *value == "kilted" ||
+                 *value == "rolling") {
+        o.ros_distro = transport::ros::Distro::kJazzy;
+      } else {
+        throw UsageError("--ros-distro: expected humble, iron, jazzy, kilted or rolling, got " +
+                         quoted(*value));
+      }
+      ros_options = true;
     } else if (name == "--lcm-url") {
       if (value->find("://") == std::string_view::npos) {
         throw UsageError(
@@ -156,6 +181,8 @@ RigiddOptions parse_options(std::span<const std::string_view> args) {
   if (!o.security.empty() && !o.dds) {
     throw UsageError("--security applies to DDS, which --transport leaves out");
   }
+  if (ros_options && !o.ros) throw UsageError("--ros-namespace and --ros-distro apply to --ros");
+  if (o.ros && !o.dds) throw UsageError("--ros speaks on DDS, which --transport leaves out");
   if (o.rt_workers && o.mode != rigid::Mode::kRealtime) {
     throw UsageError("--rt-workers applies to --mode realtime, not " + quoted(mode_name(o.mode)));
   }
@@ -195,7 +222,8 @@ std::string usage() {
   return R"(Usage: rigidd [--scene FILE] [--transport dds,lcm] [--mode realtime|fast|lockstep]
               [--dds-domain N] [--lcm-url URL] [--prefix P] [--reliable-state]
               [--spin-us N] [--threads N] [--rt-workers] [--journal FILE]
-              [--security DIR] [--controls on|off] [--verbose] [--check]
+              [--security DIR] [--controls on|off] [--ros] [--ros-namespace NS]
+              [--ros-distro NAME] [--verbose] [--check]
 
 Runs the rigid-body scene FILE at its fixed rate, publishes the state over Cyclone DDS and LCM,
 and takes wrenches (forces at body points) and control requests from clients on both buses.
@@ -236,6 +264,14 @@ and takes wrenches (forces at body points) and control requests from clients on 
                      it (LCM has no security: it trusts every process that reaches it)
   --controls on|off  accept pause, resume, step, reset and rate requests (default on). With
                      --security only identities that may control can send them anyway
+  --ros              also be a ROS 2 node on the DDS participant: /tf, /tf_static, /clock and
+                     rigid/markers from every state, geometry_msgs/WrenchStamped on
+                     rigid/BODY/wrench, and the simulation_interfaces services under
+                     /rigidd (docs/ros2.md); under the Cyclone configuration a ROS 2 user has
+                     (config/cyclonedds-ros.xml: multicast discovery on this host)
+  --ros-namespace NS the ROS namespace of rigidd's node and topics (default: none)
+  --ros-distro NAME  the ROS 2 release of the peers: humble (24-byte GIDs in
+                     ros_discovery_info) or iron, jazzy, kilted, rolling (default jazzy)
   --verbose          at exit, the full summary (percentiles, states per bus, command-to-state
                      latency) and the whole run's tick lateness histogram
   --check            validate the command line and the scene, print a summary and exit

@@ -11,6 +11,7 @@
 
 #include "rigid/messages.hpp"
 #include "rigid/names.hpp"
+#include "transport/ros/ros_messages.hpp"
 
 namespace rigid::rigidd {
 
@@ -33,6 +34,10 @@ struct RigiddOptions {
   std::string journal;   // --journal FILE; empty: none
   std::string security;  // --security DIR: DDS Security identity directory; empty: none
   bool controls = true;  // --controls on|off
+  // --ros: ROS 2's topics and services on the DDS participant (transport/ros/ros_face.hpp).
+  bool ros = false;
+  std::string ros_namespace;  // --ros-namespace, normalized: "" or "/a/b"
+  transport::ros::Distro ros_distro = transport::ros::Distro::kJazzy;  // --ros-distro
   bool verbose = false;  // --verbose: the lateness histogram at exit
   bool check = false;
   bool help = false;

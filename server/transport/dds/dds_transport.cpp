@@ -19,6 +19,7 @@
 #include "transport/dds/dds_entity.hpp"
 #include "transport/dds/dds_qos.hpp"
 #include "transport/dds/dds_security.hpp"
+#include "transport/dds/participant_add_on.hpp"
 #include "transport/message_topic.hpp"
 #include "transport/traffic_counter.hpp"
 #include "util/thread_name.hpp"
@@ -184,7 +185,7 @@ class TypedInbox final : public Inbox {
 class DdsTransport final : public Transport {
  public:
   DdsTransport(const Options& options, Receiver& receiver)
-      : role_(options.role), receiver_(receiver) {
+      : role_(options.role), receiver_(receiver), add_on_(options.add_on) {
     if (!is_valid_prefix(options.prefix)) {
       throw TransportError("DDS: invalid prefix '" + options.prefix +
                            "' (letters, digits and '_' only)");
@@ -197,6 +198,11 @@ class DdsTransport final : public Transport {
     if (!options.security.empty()) {
       identity_ = load_identity(options.security);
       participant_qos = participant_security_qos(identity_);
+    }
+    if (add_on_) {
+      if (!participant_qos) participant_qos = Qos(dds_create_qos());
+      const std::string user_data = add_on_->participant_user_data();
+      dds_qset_userdata(participant_qos.get(), user_data.data(), user_data.size());
     }
     participant_ = Entity(
         dds_create_participant(options.domain, participant_qos.get(), nullptr),
@@ -219,6 +225,16 @@ class DdsTransport final : public Transport {
     create<StatsReport>(names, options);
     create<SceneDescription>(names, options);
     create<AcceptedCommand>(names, options);
+    if (add_on_) {
+      const std::vector<dds_entity_t> conditions =
+          add_on_->open(participant_.get(), receiver_, counter_);
+      for (std::size_t i = 0; i < conditions.size(); ++i) {
+        check(dds_waitset_attach(waitset_.get(), conditions[i],
+                                 kAddOnToken + static_cast<dds_attach_t>(i)),
+              "attach a condition of the participant's other face");
+      }
+      triggered_.resize(triggered_.size() + conditions.size());
+    }
 
     thread_ = std::thread([this] { receive_loop(); });
     util::name_thread(thread_, "rigid-dds-in");
@@ -227,6 +243,7 @@ class DdsTransport final : public Transport {
   ~DdsTransport() override {
     dds_set_guardcondition(stop_.get(), true);
     if (thread_.joinable()) thread_.join();
+    if (add_on_) add_on_->close();
   }
 
   DdsTransport(const DdsTransport&) = delete;
@@ -235,10 +252,21 @@ class DdsTransport final : public Transport {
   Bus bus() const override { return Bus::kDds; }
   Role role() const override { return role_; }
 
-  PublishResult publish(const StateFrame& m) override { return write(m); }
+  PublishResult publish(const StateFrame& m) override {
+    const PublishResult result = write(m);
+    if (add_on_ && result == PublishResult::kOk) add_on_->on_state(m);
+    return result;
+  }
   PublishResult publish(const StatsReport& m) override { return write(m); }
-  PublishResult publish(const SceneDescription& m) override { return write(m); }
-  PublishResult publish(const ControlReply& m) override { return write(m); }
+  PublishResult publish(const SceneDescription& m) override {
+    const PublishResult result = write(m);
+    if (add_on_ && result == PublishResult::kOk) add_on_->on_scene(m);
+    return result;
+  }
+  PublishResult publish(const ControlReply& m) override {
+    if (add_on_ && add_on_->on_control_reply(m)) return PublishResult::kOk;
+    return write(m);
+  }
   PublishResult publish(const WrenchCommand& m) override {
     if (!secure() || role_ != Role::kClient) return write(m);
     // With security a wrench goes out through the writer of its body's partition.
@@ -257,13 +285,19 @@ class DdsTransport final : public Transport {
     if (writer <= 0) return PublishResult::kNotPermitted;
     return write_with(writer, m, scratch_[i]);
   }
-  PublishResult publish(const AcceptedCommand& m) override { return write(m); }
+  PublishResult publish(const AcceptedCommand& m) override {
+    const PublishResult result = write(m);
+    if (add_on_ && result == PublishResult::kOk) add_on_->on_accepted(m);
+    return result;
+  }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
 
  private:
-  // The waitset token of the stop condition; readers use their index in inboxes_.
+  // The waitset token of the stop condition; readers use their index in inboxes_, the add-on's
+  // conditions kAddOnToken + their index in its list.
   static constexpr dds_attach_t kStopToken = -1;
+  static constexpr dds_attach_t kAddOnToken = 1 << 20;
 
   static void check(dds_return_t result, const std::string& what) {
     if (result < 0) throw TransportError("DDS: cannot " + what + ": " + dds_strretcode(result));
@@ -361,7 +395,7 @@ class DdsTransport final : public Transport {
   }
 
   void receive_loop() {
-    std::array<dds_attach_t, kAllTopics.size() + 1> triggered{};
+    std::vector<dds_attach_t>& triggered = triggered_;
     for (;;) {
       const dds_return_t n =
           dds_waitset_wait(waitset_.get(), triggered.data(), triggered.size(), DDS_INFINITY);
@@ -370,6 +404,10 @@ class DdsTransport final : public Transport {
       for (std::size_t k = 0; k < count; ++k) {
         const dds_attach_t token = triggered[k];
         if (token == kStopToken) return;
+        if (token >= kAddOnToken) {
+          add_on_->on_triggered(static_cast<std::size_t>(token - kAddOnToken));
+          continue;
+        }
         inboxes_[static_cast<std::size_t>(token)]->drain(receiver_, counter_, secure());
       }
     }
@@ -383,6 +421,8 @@ class DdsTransport final : public Transport {
   Identity identity_;  // name empty: no security
   // Declaration order is destruction order reversed: the participant goes last.
   Entity participant_;
+  // After the participant: destroyed before it, with its entities.
+  std::shared_ptr<ParticipantAddOn> add_on_;
   Entity waitset_;
   Entity stop_;
   std::array<Entity, kAllTopics.size()> topics_;
@@ -391,6 +431,8 @@ class DdsTransport final : public Transport {
   std::array<BorrowScratch, kAllTopics.size()> scratch_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
   std::map<std::string, Entity> command_writers_;  // by partition; guarded by send_mutex_
+  // The receive thread's waitset results: one per reader, the stop condition and the add-on's.
+  std::vector<dds_attach_t> triggered_ = std::vector<dds_attach_t>(kAllTopics.size() + 1);
   std::thread thread_;
 };
 

@@ -11,6 +11,8 @@
 
 namespace rigid::transport::dds {
 
+class ParticipantAddOn;  // participant_add_on.hpp
+
 inline constexpr int kDefaultStateHistory = 256;
 inline constexpr int kMaxStateHistory = 65536;
 
@@ -24,6 +26,9 @@ struct Options {
   std::string security;
   // A client's state reader keeps this many unread states (dds_qos.hpp says why more than one).
   int state_history = kDefaultStateHistory;
+  // Another face on the same participant (server role: rigidd --ros, ros/ros_face.hpp), told of
+  // everything the transport publishes, its readers drained by the transport's receive thread.
+  std::shared_ptr<ParticipantAddOn> add_on;
 };
 
 // "DDS on loopback unless a network is configured": when CYCLONEDDS_URI is unset, points it at
