@@ -423,6 +423,7 @@ void SimServer::send_controls(std::size_t service, SimService kind, const SimReq
                     static_cast<int>(controls.size()),
                     static_cast<int>(controls.size()),
                     ok_result,
+                    *(controls.end() - 1),
                     stopping,
                     false,
                     {},
@@ -458,7 +459,20 @@ bool SimServer::on_control_reply(const ControlReply& r) {
       p->message = r.message;
     }
     if (--p->remaining > 0) return true;
-    if (p->stopping && !p->failed) stopped_ = true;
+    // The state this request made, at once: its controls' rigid/accepted records may come later
+    // (on_accepted leaves this server's own controls alone).
+    if (!p->failed) {
+      if (p->stopping) {
+        paused_ = stopped_ = true;
+      } else if (p->last_kind == ControlKind::kPause) {
+        paused_ = true;
+        stopped_ = false;
+      } else if (p->last_kind == ControlKind::kResume) {
+        paused_ = stopped_ = false;
+      } else if (p->last_kind == ControlKind::kStep) {
+        stopped_ = false;
+      }
+    }
     const SimResult result = p->failed ? SimResult::kOperationFailed : p->ok_result;
     encode_result_response(p->header, result, p->message, reply_scratch_);
     service = p->service;
@@ -470,7 +484,9 @@ bool SimServer::on_control_reply(const ControlReply& r) {
 }
 
 void SimServer::on_accepted(const AcceptedCommand& a) {
-  if (a.kind != AcceptedKind::kControl) return;
+  // Others' controls (rigidctl, another client); this server's own change the state when
+  // answered (on_control_reply).
+  if (a.kind != AcceptedKind::kControl || a.source == source_) return;
   const std::lock_guard lock(mutex_);
   switch (a.command) {
     case ControlKind::kPause:

@@ -80,7 +80,9 @@ class SimServer {
     int count = 0;
     int remaining = 0;
     SimResult ok_result = SimResult::kOk;  // what success answers (ALREADY_IN_TARGET_STATE)
-    bool stopping = false;                 // SetSimulationState STOPPED
+    // What success makes of the simulation state (SetSimulationState, StepSimulation).
+    ControlKind last_kind = ControlKind::kNone;
+    bool stopping = false;  // SetSimulationState STOPPED
     bool failed = false;
     std::string message;
     std::int64_t since_ns = 0;
