@@ -804,15 +804,53 @@ int run_controls_off(int domain) {
 
 }  // namespace
 
+// Reads 10 /tf and 5 /clock samples (for a capture of the traffic): every body of the test scene
+// under "world", the clock moving.
+int run_listen(int domain) {
+  Peer peer(domain, "ros_fastdds_listener");
+  DataReader* tf = peer.reader(peer.topic("rt/tf", new tf2_msgs::msg::dds_::TFMessage_PubSubType()),
+                               Peer::reader_qos(100, true));
+  DataReader* clock =
+      peer.reader(peer.topic("rt/clock", new rosgraph_msgs::msg::dds_::Clock_PubSubType()),
+                  Peer::reader_qos(1, true));
+  int tfs = 0;
+  int clocks = 0;
+  const bool done = wait_until(
+      [&] {
+        SampleInfo info;
+        tf2_msgs::msg::dds_::TFMessage_ m;
+        while (tf->take_next_sample(&m, &info) == ReturnCode_t::RETCODE_OK) {
+          if (!info.valid_data) continue;
+          ++tfs;
+          check(m.transforms().size() == kBodies.size(),
+                "/tf: " + std::to_string(m.transforms().size()) + " transforms");
+          for (std::size_t i = 0; i < m.transforms().size() && i < kBodies.size(); ++i)
+            check(m.transforms()[i].child_frame_id() == kBodies[i] &&
+                      m.transforms()[i].header().frame_id() == "world",
+                  "/tf: transform " + std::to_string(i) + " is not world -> " + kBodies[i]);
+        }
+        rosgraph_msgs::msg::dds_::Clock_ c;
+        while (clock->take_next_sample(&c, &info) == ReturnCode_t::RETCODE_OK)
+          clocks += info.valid_data ? 1 : 0;
+        return tfs >= 10 && clocks >= 5;
+      },
+      15.0);
+  check(done,
+        "only " + std::to_string(tfs) + " /tf and " + std::to_string(clocks) + " /clock in 15 s");
+  return failures == 0 ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: ros_fastdds_peer DOMAIN full|controls-off\n");
+    std::fprintf(stderr, "usage: ros_fastdds_peer DOMAIN full|controls-off|listen\n");
     return 2;
   }
   const int domain = std::atoi(argv[1]);
   const std::string mode = argv[2];
   try {
-    const int status = mode == "full" ? run_full(domain) : run_controls_off(domain);
+    const int status = mode == "full"     ? run_full(domain)
+                       : mode == "listen" ? run_listen(domain)
+                                          : run_controls_off(domain);
     std::printf("ros_fastdds_test: %s: %d failure(s)\n", mode.c_str(), failures);
     return status;
   } catch (const std::exception& e) {
