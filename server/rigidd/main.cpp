@@ -149,8 +149,9 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
       o.prefix = options.prefix;
       o.reliable_state = options.reliable_state;
       o.security = options.security;
-      if (options.ros) o.add_on = transport::ros::make_face(ros);
-      server.add_transport(transport::dds::make_transport(o, server.receiver(rigid::Bus::kDds)));
+      server.add_transport(
+          transport::dds::make_transport(o, server.receiver(rigid::Bus::kDds),
+                                         options.ros ? transport::ros::make_face(ros) : nullptr));
     }
     if (options.lcm) {
       transport::lcm::Options o;

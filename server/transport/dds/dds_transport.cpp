@@ -184,8 +184,8 @@ class TypedInbox final : public Inbox {
 
 class DdsTransport final : public Transport {
  public:
-  DdsTransport(const Options& options, Receiver& receiver)
-      : role_(options.role), receiver_(receiver), add_on_(options.add_on) {
+  DdsTransport(const Options& options, Receiver& receiver, std::shared_ptr<ParticipantAddOn> add_on)
+      : role_(options.role), receiver_(receiver), add_on_(std::move(add_on)) {
     if (!is_valid_prefix(options.prefix)) {
       throw TransportError("DDS: invalid prefix '" + options.prefix +
                            "' (letters, digits and '_' only)");
@@ -439,7 +439,12 @@ class DdsTransport final : public Transport {
 }  // namespace
 
 std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver) {
-  return std::make_unique<DdsTransport>(options, receiver);
+  return std::make_unique<DdsTransport>(options, receiver, nullptr);
+}
+
+std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver,
+                                          std::shared_ptr<ParticipantAddOn> add_on) {
+  return std::make_unique<DdsTransport>(options, receiver, std::move(add_on));
 }
 
 void limit_sample_size(std::size_t bytes) {

@@ -26,9 +26,6 @@ struct Options {
   std::string security;
   // A client's state reader keeps this many unread states (dds_qos.hpp says why more than one).
   int state_history = kDefaultStateHistory;
-  // Another face on the same participant (server role: rigidd --ros, ros/ros_face.hpp), told of
-  // everything the transport publishes, its readers drained by the transport's receive thread.
-  std::shared_ptr<ParticipantAddOn> add_on;
 };
 
 // "DDS on loopback unless a network is configured": when CYCLONEDDS_URI is unset, points it at
@@ -45,5 +42,10 @@ void limit_sample_size(std::size_t bytes);
 // `receiver` is called from the transport's thread from before this returns until the transport is
 // destroyed, and must outlive it.
 std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver);
+// The same with another face on its participant (server role: rigidd --ros, ros/ros_face.hpp),
+// told of everything the transport publishes, its readers drained by the transport's receive
+// thread.
+std::unique_ptr<Transport> make_transport(const Options& options, Receiver& receiver,
+                                          std::shared_ptr<ParticipantAddOn> add_on);
 
 }  // namespace rigid::transport::dds
