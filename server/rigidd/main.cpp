@@ -77,6 +77,21 @@ std::string buses(const rigidd::RigiddOptions& o, const std::string& lcm_url) {
   return text;
 }
 
+// What rigidd --ros needs of the scene and the command line (transport/ros/ros_face.hpp).
+transport::ros::Options ros_options(const scene::Scene& scene, const rigidd::RigiddOptions& o) {
+  transport::ros::Options ros;
+  ros.ns = o.ros_namespace;
+  ros.distro = o.ros_distro;
+  ros.mode = o.mode;
+  ros.secure = !o.security.empty();
+  ros.wrench_ttl = scene.limits.max_ttl;
+  ros.body_names.reserve(scene.world.bodies.size());
+  for (const physics::BodySpec& b : scene.world.bodies)
+    ros.body_names.push_back(b.name);
+  // The scene's static parts go to /tf_static (ros.static_frames) once scenes have them.
+  return ros;
+}
+
 // The scene file's text for the journal, read again after load_scene (which keeps only the result).
 std::string scene_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -113,15 +128,7 @@ int run(const rigidd::RigiddOptions& options, scene::Scene scene) {
   transport::ros::Options ros;
   transport::ros::Plan ros_plan;
   if (options.ros) {
-    ros.ns = options.ros_namespace;
-    ros.distro = options.ros_distro;
-    ros.mode = options.mode;
-    ros.secure = !options.security.empty();
-    ros.wrench_ttl = scene.limits.max_ttl;
-    ros.body_names.reserve(scene.world.bodies.size());
-    for (const physics::BodySpec& b : scene.world.bodies)
-      ros.body_names.push_back(b.name);
-    // The scene's static parts go to /tf_static (ros.static_frames) once scenes have them.
+    ros = ros_options(scene, options);
     ros_plan = transport::ros::plan(ros);
     for (const std::string& note : ros_plan.notes)
       log.line("--ros: " + note);
@@ -245,6 +252,10 @@ int main(int argc, char** argv) {
   if (options.check) {
     for (const std::string& w : scene.warnings)
       std::cerr << w << '\n';
+    if (options.ros) {
+      for (const std::string& note : transport::ros::plan(ros_options(scene, options)).notes)
+        std::cerr << "rigidd: --ros: " << note << '\n';
+    }
     std::cout << "rigidd: ok: " << describe(scene, options) << '\n';
     return 0;
   }

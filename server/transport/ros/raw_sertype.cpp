@@ -17,8 +17,8 @@ namespace {
 // A sample: its serialized bytes, padded with zeros to a multiple of 4 (Cyclone sends whole
 // 4-byte units of a sample and reads that far; DDSI-RTPS 2.5, 9.4.2.11).
 struct RawSerdata : ddsi_serdata {
-  std::vector<std::uint8_t> bytes;
-  std::uint32_t size = 0;  // bytes.size(), padding included
+  std::unique_ptr<std::uint8_t[]> bytes;  // not value-initialised: every byte is written
+  std::uint32_t size = 0;                 // padding included
 };
 
 struct RawSertype : ddsi_sertype {};
@@ -28,7 +28,12 @@ RawSerdata* make(const ddsi_sertype* type, ddsi_serdata_kind kind, std::size_t s
   if (d == nullptr) return nullptr;
   ddsi_serdata_init(d, type, kind);
   const std::size_t padded = (size + 3) / 4 * 4;
-  d->bytes.assign(padded, 0);
+  d->bytes.reset(new (std::nothrow) std::uint8_t[padded == 0 ? 1 : padded]);
+  if (!d->bytes) {
+    delete d;
+    return nullptr;
+  }
+  std::memset(d->bytes.get() + size, 0, padded - size);
   d->size = static_cast<std::uint32_t>(padded);
   return d;
 }
@@ -54,13 +59,15 @@ ddsi_serdata* from_ser(const ddsi_sertype* type, ddsi_serdata_kind kind, const n
   }
   if (d == nullptr) return nullptr;
   // Fragments may overlap: copy from each only what extends the bytes already copied.
+  // Bytes no fragment covers (never, from a conforming writer) stay zero rather than undefined.
+  std::memset(d->bytes.get(), 0, size);
   std::uint32_t off = 0;
   for (; fragchain != nullptr; fragchain = fragchain->nextfrag) {
     if (fragchain->maxp1 <= off) continue;
     if (fragchain->min > off || fragchain->maxp1 > size) break;  // a gap or excess: never seen
     const unsigned char* payload =
         NN_RMSG_PAYLOADOFF(fragchain->rmsg, NN_RDATA_PAYLOAD_OFF(fragchain));
-    std::memcpy(d->bytes.data() + off, payload + (off - fragchain->min), fragchain->maxp1 - off);
+    std::memcpy(d->bytes.get() + off, payload + (off - fragchain->min), fragchain->maxp1 - off);
     off = fragchain->maxp1;
   }
   return d;
@@ -78,9 +85,10 @@ ddsi_serdata* from_ser_iov(const ddsi_sertype* type, ddsi_serdata_kind kind,
   std::size_t off = 0;
   for (ddsrt_msg_iovlen_t i = 0; i < niov && off < size; ++i) {
     const std::size_t n = std::min<std::size_t>(iov[i].iov_len, size - off);
-    std::memcpy(d->bytes.data() + off, iov[i].iov_base, n);
+    std::memcpy(d->bytes.get() + off, iov[i].iov_base, n);
     off += n;
   }
+  std::memset(d->bytes.get() + off, 0, size - off);
   return d;
 }
 
@@ -103,12 +111,12 @@ ddsi_serdata* from_sample(const ddsi_sertype* type, ddsi_serdata_kind kind, cons
 }
 
 void to_ser(const ddsi_serdata* d, std::size_t off, std::size_t sz, void* buf) {
-  std::memcpy(buf, static_cast<const RawSerdata*>(d)->bytes.data() + off, sz);
+  std::memcpy(buf, static_cast<const RawSerdata*>(d)->bytes.get() + off, sz);
 }
 
 ddsi_serdata* to_ser_ref(const ddsi_serdata* d, std::size_t off, std::size_t sz,
                          ddsrt_iovec_t* ref) {
-  ref->iov_base = const_cast<std::uint8_t*>(static_cast<const RawSerdata*>(d)->bytes.data() + off);
+  ref->iov_base = const_cast<std::uint8_t*>(static_cast<const RawSerdata*>(d)->bytes.get() + off);
   ref->iov_len = static_cast<ddsrt_iov_len_t>(sz);
   return ddsi_serdata_ref(d);
 }
@@ -257,7 +265,7 @@ dds_return_t RawTopic::write(dds_entity_t writer, std::span<const std::uint8_t> 
 
 std::span<const std::uint8_t> raw_bytes(const ddsi_serdata* sample) {
   const auto* d = static_cast<const RawSerdata*>(sample);
-  return {d->bytes.data(), d->size};
+  return {d->bytes.get(), d->size};
 }
 
 void release_raw(ddsi_serdata* sample) {

@@ -1,6 +1,7 @@
 #include "transport/ros/ros_face.hpp"
 
 #include <algorithm>
+#include <mutex>
 #include <unordered_map>
 #include <utility>
 
@@ -71,22 +72,30 @@ class RosFace final : public dds::ParticipantAddOn {
            dds_message_type("visualization_msgs", "MarkerArray"),
            ros_qos(Durability::kTransientLocal, 1), markers_writer_);
 
-    std::vector<dds_entity_t> conditions;
+    // The wrench readers are not waited on one by one: a waitset's wait looks at every condition
+    // attached to it on every wake, and a scene's thousand readers made each command cost the
+    // receive thread more than its own work (bench/notes/ros.md). Each reader's listener notes it
+    // as ready instead, and one guard condition wakes the receive thread.
+    wrench_ready_ = dds::Entity(dds_create_guardcondition(participant), "guard condition");
+    std::vector<dds_entity_t> conditions{wrench_ready_.get()};
     const dds::Qos wrench_qos = ros_qos(Durability::kVolatile, kWrenchDepth);
+    wrenches_.reserve(opt_.body_names.size());  // the listeners hold their inbox's address
+    queued_.assign(opt_.body_names.size(), 0);  // a listener may run as soon as its reader exists
     for (std::size_t b = 0; b < opt_.body_names.size(); ++b) {
       const std::string& body = opt_.body_names[b];
       if (!has_wrench_topic(opt_, body)) continue;
-      WrenchInbox in;
+      WrenchInbox& in = wrenches_.emplace_back();
+      in.face = this;
+      in.index = wrenches_.size() - 1;
       in.body = static_cast<std::int32_t>(b);
       in.topic = RawTopic(participant, dds_topic(wrench_topic_name(opt_, body)),
                           dds_message_type("geometry_msgs", "WrenchStamped"), wrench_qos.get());
+      dds_listener_t* listener = dds_create_listener(&in);
+      dds_lset_data_available(listener, &RosFace::on_data_available);
       in.reader =
-          dds::Entity(dds_create_reader(participant, in.topic.get(), wrench_qos.get(), nullptr),
+          dds::Entity(dds_create_reader(participant, in.topic.get(), wrench_qos.get(), listener),
                       "reader for " + in.topic.name());
-      in.condition = dds::Entity(dds_create_readcondition(in.reader.get(), DDS_ANY_STATE),
-                                 "read condition for " + in.topic.name());
-      conditions.push_back(in.condition.get());
-      wrenches_.push_back(std::move(in));
+      dds_delete_listener(listener);
     }
 
     SimServer::Setup setup;
@@ -109,16 +118,27 @@ class RosFace final : public dds::ParticipantAddOn {
   }
 
   void on_triggered(std::size_t index) override {
-    if (index < wrenches_.size()) {
-      drain(wrenches_[index]);
-    } else if (sim_) {
-      sim_->on_triggered(index - wrenches_.size());
+    if (index > 0) {
+      if (sim_) sim_->on_triggered(index - 1);
+      return;
     }
+    bool triggered = false;
+    (void)dds_take_guardcondition(wrench_ready_.get(), &triggered);
+    {
+      const std::lock_guard lock(ready_mutex_);
+      draining_.swap(ready_);
+      for (const std::size_t i : draining_)
+        queued_[i] = 0;
+    }
+    for (const std::size_t i : draining_)
+      if (drain(wrenches_[i])) mark_ready(i);  // more left: another turn, after the others
+    draining_.clear();
   }
 
   void close() override {
     if (sim_) sim_->close();
     wrenches_.clear();
+    wrench_ready_ = dds::Entity();
     discovery_writer_ = dds::Entity();
     markers_writer_ = dds::Entity();
     clock_writer_ = dds::Entity();
@@ -180,11 +200,29 @@ class RosFace final : public dds::ParticipantAddOn {
 
  private:
   struct WrenchInbox {
+    RosFace* face = nullptr;
+    std::size_t index = 0;  // in wrenches_
     std::int32_t body = 0;
     RawTopic topic;
     dds::Entity reader;
-    dds::Entity condition;  // declared after reader: deleted before it
   };
+
+  // A wrench reader's listener, on Cyclone's delivery thread: notes the reader as ready and wakes
+  // the receive thread. Quick, and takes no lock the receive thread holds while it calls into
+  // Cyclone.
+  static void on_data_available(dds_entity_t /*reader*/, void* arg) {
+    const auto* in = static_cast<const WrenchInbox*>(arg);
+    in->face->mark_ready(in->index);
+  }
+  void mark_ready(std::size_t index) {
+    {
+      const std::lock_guard lock(ready_mutex_);
+      if (queued_[index] != 0) return;
+      queued_[index] = 1;
+      ready_.push_back(index);
+    }
+    dds_set_guardcondition(wrench_ready_.get(), true);
+  }
 
   static PublishResult write(const RawTopic& topic, dds_entity_t writer,
                              std::span<const std::uint8_t> bytes) {
@@ -222,15 +260,17 @@ class RosFace final : public dds::ParticipantAddOn {
     counter_->count(write(discovery_topic_, discovery_writer_.get(), bytes));
   }
 
-  void drain(WrenchInbox& in) {
-    // As many as rigid's own inboxes take per turn (dds_transport.cpp: Inbox::kMaxPerDrain).
+  // Takes as many samples as rigid's own inboxes take per turn (dds_transport.cpp:
+  // Inbox::kMaxPerDrain); true if it stopped there with more left.
+  bool drain(WrenchInbox& in) {
     for (int n = 0; n < 256; ++n) {
       const int taken = take_raw(
           in.reader.get(), [&](std::span<const std::uint8_t> bytes, const dds_sample_info_t& info) {
             on_sample(in, bytes, info);
           });
-      if (taken <= 0) break;
+      if (taken <= 0) return false;
     }
+    return true;
   }
 
   void on_sample(const WrenchInbox& in, std::span<const std::uint8_t> bytes,
@@ -326,6 +366,13 @@ class RosFace final : public dds::ParticipantAddOn {
 
   RawTopic tf_topic_, static_topic_, clock_topic_, markers_topic_, discovery_topic_;
   dds::Entity tf_writer_, static_writer_, clock_writer_, markers_writer_, discovery_writer_;
+  // Wrench readers with samples, noted by their listeners (Cyclone's threads), taken by the
+  // receive thread. Before the readers: destroyed after them.
+  std::mutex ready_mutex_;
+  std::vector<std::size_t> ready_;
+  std::vector<std::uint8_t> queued_;   // by reader: in ready_
+  std::vector<std::size_t> draining_;  // the receive thread's
+  dds::Entity wrench_ready_;           // before the readers: deleted after them
   std::vector<WrenchInbox> wrenches_;
   std::unique_ptr<SimServer> sim_;
 

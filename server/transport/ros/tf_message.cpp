@@ -42,10 +42,16 @@ void TfMessage::set_pose(std::size_t i, const double* p, const double* q_wxyz) {
 }
 
 void TfMessage::fill(const StateFrame& state) {
-  set_stamp(ros_time(state.sim_time));
+  // One pass in the message's order (each transform's stamp, then its pose).
+  const RosTime t = ros_time(state.sim_time);
+  std::uint8_t stamp[8];
+  std::memcpy(stamp, &t.sec, 4);
+  std::memcpy(stamp + 4, &t.nanosec, 4);
   const std::size_t n = std::min(size(), state.body_count());
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::memcpy(bytes_.data() + stamp_at_[i], stamp, sizeof stamp);
     set_pose(i, &state.position[3 * i], &state.orientation[4 * i]);
+  }
 }
 
 }  // namespace rigid::transport::ros
