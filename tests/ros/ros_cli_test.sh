@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # rigidd's --ros options: each bad one refused in one line naming the option and its value, exit
-# status 2, before anything runs; --check --ros names the bodies ROS cannot reach.
+# status 2, before anything runs (a rigidd that runs instead is stopped after 20 s and fails the
+# test); --check --ros names the bodies ROS cannot reach.
 #
 #   ros_cli_test.sh RIGIDD SCENE
 set -uo pipefail
@@ -10,7 +11,7 @@ status=0
 refused() {  # EXPECTED-PREFIX ARGS...
   local expected=$1 err code
   shift
-  err=$("$rigidd" --scene "$scene" "$@" 2>&1 > /dev/null)
+  err=$(timeout 20 "$rigidd" --scene "$scene" "$@" 2>&1 > /dev/null)
   code=$?
   if [[ $code != 2 || $(wc -l <<< "$err") != 1 || $err != "rigidd: $expected"* ]]; then
     echo "ros_cli_test: FAILED: rigidd $*: status $code, '$err' (expected 'rigidd: $expected...')"
@@ -24,7 +25,7 @@ refused "--ros-namespace: '2lab' is not a ROS namespace: a token starting with t
 refused "--ros-distro: expected humble, iron, jazzy, kilted or rolling, got 'foxy'" --ros --ros-distro foxy
 refused "--ros-namespace and --ros-distro apply to --ros" --ros-namespace lab
 refused "--ros speaks on DDS, which --transport leaves out" --ros --transport lcm
-err=$("$rigidd" --check --ros --scene "$scene" 2>&1 > /dev/null)
+err=$(timeout 20 "$rigidd" --check --ros --scene "$scene" 2>&1 > /dev/null)
 [[ $? == 0 && $err == *"body 'my.box' has no ROS wrench topic"* ]] ||
   { echo "ros_cli_test: FAILED: --check --ros does not name my.box: '$err'"; status=1; }
 [[ $status == 0 ]] && echo "ros_cli_test: ok"
