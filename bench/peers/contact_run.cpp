@@ -1,5 +1,6 @@
 #include "contact_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rigid::bench::peers {
@@ -20,14 +21,19 @@ ContactRow contact_accuracy_run(const ContactEngine& engine, const ContactCase& 
   return score.result();
 }
 
-double contact_cost_run(const ContactEngine& engine, const ContactCase& c, const std::string& mode,
-                        double dt, int copies) {
-  const long n = contact_steps(c, dt);
+ContactCost contact_cost_run(const ContactEngine& engine, const ContactCase& c,
+                             const std::string& mode, double dt, int copies) {
+  const long n = contact_steps(c, dt), settle = std::min(n - 1, std::lround(kSettleTime / dt));
   const auto world = engine.make_world(c, mode, dt, copies, false);
   const double t0 = thread_cpu_ns();
-  for (long i = 0; i < n; ++i)
+  for (long i = 0; i < settle; ++i)
     world->step();
-  return (thread_cpu_ns() - t0) / (static_cast<double>(n) * copies);
+  const double t1 = thread_cpu_ns();
+  for (long i = settle; i < n; ++i)
+    world->step();
+  const double t2 = thread_cpu_ns();
+  return {(t2 - t0) / (static_cast<double>(n) * copies),
+          (t2 - t1) / (static_cast<double>(n - settle) * copies)};
 }
 
 }  // namespace rigid::bench::peers

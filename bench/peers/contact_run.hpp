@@ -14,9 +14,14 @@ ContactRow contact_accuracy_run(const ContactEngine& engine, const ContactCase& 
                                 const std::string& mode, double dt);
 
 // Thread CPU time per body-step (ns) of one fresh world of `copies` copies stepped for the case's
-// duration (built outside the timing, not recording).
-double contact_cost_run(const ContactEngine& engine, const ContactCase& c, const std::string& mode,
-                        double dt, int copies);
+// duration (built outside the timing, not recording): over the whole run, and over the steps after
+// kSettleTime alone (what a body costs once it has landed, stopped or come to rest).
+struct ContactCost {
+  double ns_per_body_step = 0;
+  double settled_ns_per_body_step = 0;
+};
+ContactCost contact_cost_run(const ContactEngine& engine, const ContactCase& c,
+                             const std::string& mode, double dt, int copies);
 
 // The number of steps a case takes at dt.
 long contact_steps(const ContactCase& c, double dt);

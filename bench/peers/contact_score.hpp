@@ -74,8 +74,10 @@ class ContactScorer {
 
 // The CSV peer_contacts writes, one row per (case, engine mode, dt).
 void write_contact_csv_header(std::ostream& os);
+// Costs in ns per body-step: the whole run, its steps after kSettleTime, and the same body without
+// the plane over the whole run.
 void write_contact_csv_row(std::ostream& os, const ContactCase& c, const std::string& engine_mode,
                            double dt, long steps, const ContactRow& r, double ns_per_body_step,
-                           double free_ns_per_body_step);
+                           double settled_ns_per_body_step, double free_ns_per_body_step);
 
 }  // namespace rigid::bench::peers

@@ -1,7 +1,8 @@
 // The five classic contact cases for ours and for MuJoCo, Bullet and ODE side by side, at dt = 1
 // ms, 1/240 s and 1/60 s, into one CSV row per (case, engine mode, dt): impact-time errors,
 // penetration, apex and energy errors, rest or stop time, stop distance, drift at rest, and the
-// cost per body-step, with and without the plane (a free body of the same model).
+// cost per body-step: over the run, over its steps after 1 s (once settled), and without the plane
+// (a free body of the same model).
 //
 //   build/bench/peers/peer_contacts [--quick] [--out bench/results/contacts.csv]
 //       [--engines rigid,mujoco,bullet,ode] [--cases NAME,...]
@@ -51,7 +52,7 @@ struct ModeRun {
   const ContactEngine* engine;
   std::string mode;
   ContactRow row;
-  std::vector<double> cost, free_cost;
+  std::vector<double> cost, settled_cost, free_cost;
   std::string name() const { return engine->name() + "_" + mode; }
 };
 
@@ -136,19 +137,22 @@ int main(int argc, char** argv) {
       std::vector<ModeRun> runs;
       for (const auto& e : engines) {
         for (const std::string& m : e->modes())
-          runs.push_back({e.get(), m, {}, {}, {}});
+          runs.push_back({e.get(), m, {}, {}, {}, {}});
       }
       for (ModeRun& r : runs)
         r.row = contact_accuracy_run(*r.engine, c, r.mode, dt);
       for (int k = 0; k < repeats; ++k) {
         for (ModeRun& r : runs) {
-          r.cost.push_back(contact_cost_run(*r.engine, c, r.mode, dt, copies));
-          r.free_cost.push_back(contact_cost_run(*r.engine, free, r.mode, dt, copies));
+          const ContactCost with = contact_cost_run(*r.engine, c, r.mode, dt, copies);
+          r.cost.push_back(with.ns_per_body_step);
+          r.settled_cost.push_back(with.settled_ns_per_body_step);
+          r.free_cost.push_back(
+              contact_cost_run(*r.engine, free, r.mode, dt, copies).ns_per_body_step);
         }
       }
       for (const ModeRun& r : runs) {
         write_contact_csv_row(csv, c, r.name(), dt, contact_steps(c, dt), r.row, median(r.cost),
-                              median(r.free_cost));
+                              median(r.settled_cost), median(r.free_cost));
       }
       csv.flush();
       std::cerr << "[peer_contacts] " << c.name << " dt = " << step_name(dt) << ": " << runs.size()

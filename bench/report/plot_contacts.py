@@ -109,12 +109,14 @@ def targets_md(rows):
         ok = worst is not None and worst <= bound
         out.append([what, f"{fmt(worst)} ns" if worst is not None else "-",
                     "PASS" if ok else "**FAIL**"])
-    ratios = [fnum(r["ns_per_body_step"]) / fnum(r["free_ns_per_body_step"]) for r in rows
+    ratios = [fnum(r.get("settled_ns_per_body_step")) / fnum(r["free_ns_per_body_step"])
+              for r in rows
               if r["case"] == "resting_cube" and engine_of(r["engine_mode"]) == "rigid"]
+    ratios = [x for x in ratios if not math.isnan(x)]
     worst = max(ratios) if ratios else None
     ok = worst is not None and worst <= 1.0
-    out.append(["a body resting on a plane costs no more than a free body of its model "
-                "(resting cube / the same cube falling freely, same run)",
+    out.append(["a body resting on a plane costs no more than a free body of its model (the "
+                "resting cube after 1 s / the same cube falling freely, same run)",
                 f"{worst:.2f}x" if worst is not None else "-", "PASS" if ok else "**FAIL**"])
     return md_table(["target (ours)", "ours, worst over the three dt", "verdict"], out)
 
@@ -128,7 +130,7 @@ def cell(rows, case, mode, column, scale=1.0, signed=True):
         if not r:
             parts.append("-")
             continue
-        v = fnum(r[0][column])
+        v = fnum(r[0].get(column))
         if math.isnan(v):
             parts.append("-")
         elif math.isinf(v):
@@ -158,6 +160,10 @@ SIDE_BY_SIDE = [
     ("tumbling cube: at rest after (s)", "tumbling_cube", "rest_time_s", 1, False),
     ("cost per body-step, sphere (us)", "elastic_sphere", "ns_per_body_step", 1e-3, False),
     ("cost per body-step, tumbling cube (us)", "tumbling_cube", "ns_per_body_step", 1e-3, False),
+    ("cost per body-step, resting cube after 1 s (us)", "resting_cube", "settled_ns_per_body_step",
+     1e-3, False),
+    ("cost per body-step, the cube without the plane (us)", "resting_cube",
+     "free_ns_per_body_step", 1e-3, False),
 ]
 
 
@@ -206,7 +212,7 @@ CASE_COLUMNS = {
 def case_table(rows, case):
     cols = CASE_COLUMNS[case]
     header = ["engine mode", "dt"] + [h for _, h, _, _ in cols] + [
-        "ns / body-step", "free body (ns)"]
+        "ns / body-step", "after 1 s (ns)", "free body (ns)"]
     table = []
     for r in rows:
         if r["case"] != case:
@@ -225,7 +231,8 @@ def case_table(rows, case):
                 line.append(fmt(v * scale))
         if r["blown_up"] == "1":
             line = line[:2] + ["blows up"] * len(cols)
-        line += [fmt(fnum(r["ns_per_body_step"])), fmt(fnum(r["free_ns_per_body_step"]))]
+        line += [fmt(fnum(r["ns_per_body_step"])), fmt(fnum(r.get("settled_ns_per_body_step"))),
+                 fmt(fnum(r["free_ns_per_body_step"]))]
         table.append(line)
     return md_table(header, table)
 

@@ -261,7 +261,8 @@ def contacts_section(c, link):
         "displacement of a corner of the resting cube from t = 1 s on (each engine settles "
         "first). **Cost**: thread CPU time per body-step of a world of copies of the case's body "
         "stepped for the case's duration (this run: " + c["meta"].get("bodies per cost run", "?")
-        + "), the timed runs of every mode interleaved; *free body*: the same body without the "
+        + "), the timed runs of every mode interleaved; *after 1 s*: the same runs' steps after "
+        "t = 1 s alone (once landed, stopped or at rest); *free body*: the same body without the "
         "plane, timed beside it in the same runs.",
         "",
     ]
