@@ -13,15 +13,17 @@ namespace rigid::bench::peers {
 ContactRow contact_accuracy_run(const ContactEngine& engine, const ContactCase& c,
                                 const std::string& mode, double dt);
 
-// Thread CPU time per body-step (ns) of one fresh world of `copies` copies stepped for the case's
-// duration (built outside the timing, not recording): over the whole run, and over the steps after
-// kSettleTime alone (what a body costs once it has landed, stopped or come to rest).
+// Thread CPU time per body-step (ns) of fresh worlds of `copies` copies, each stepped for the
+// case's duration (built outside the timing, not recording), as many worlds as it takes to time
+// at least `min_ns` in all (a run of a cheap engine at a coarse step is too short to time alone):
+// over the whole runs, and over their steps after kSettleTime alone (what a body costs once it has
+// landed, stopped or come to rest).
 struct ContactCost {
   double ns_per_body_step = 0;
   double settled_ns_per_body_step = 0;
 };
 ContactCost contact_cost_run(const ContactEngine& engine, const ContactCase& c,
-                             const std::string& mode, double dt, int copies);
+                             const std::string& mode, double dt, int copies, double min_ns = 0);
 
 // The number of steps a case takes at dt.
 long contact_steps(const ContactCase& c, double dt);
