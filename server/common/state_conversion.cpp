@@ -19,8 +19,6 @@ void fill_state_frame(const physics::World& world, std::int64_t tick, double sim
                       frame.angular_velocity.data()});
 }
 
-namespace {
-
 rigid::ShapeKind shape_kind(physics::ShapeKind k) {
   switch (k) {
     case physics::ShapeKind::kSphere:
@@ -37,8 +35,6 @@ rigid::ShapeKind shape_kind(physics::ShapeKind k) {
   return rigid::ShapeKind::kNone;
 }
 
-// The wire's dims: sphere (radius, 0, 0); cylinder and capsule (radius, length, 0); box and
-// ellipsoid as given (the scene's size already matches).
 physics::Vec3 shape_dims(const physics::Shape& s) {
   switch (s.kind) {
     case physics::ShapeKind::kSphere:
@@ -52,8 +48,6 @@ physics::Vec3 shape_dims(const physics::Shape& s) {
   }
   return s.size;
 }
-
-}  // namespace
 
 rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
   rigid::SceneDescription d;

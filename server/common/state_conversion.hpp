@@ -19,6 +19,11 @@ void shape_state_frame(const physics::World& world, rigid::StateFrame& frame);
 void fill_state_frame(const physics::World& world, std::int64_t tick, double sim_time,
                       rigid::StateFrame& frame);
 
+// A physics shape on the wire: its kind, and its dims: sphere (radius, 0, 0); cylinder and capsule
+// (radius, length, 0); box and ellipsoid as given (the scene's size already matches).
+rigid::ShapeKind shape_kind(physics::ShapeKind k);
+physics::Vec3 shape_dims(const physics::Shape& s);
+
 // The scene as the SceneInfo message: ids, names, masses, inertia tensors in B (zero for a point
 // mass) and shapes (SHAPE_NONE when the file gave the inertia directly), the tick period and the
 // integrator the world runs.

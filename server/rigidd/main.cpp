@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/state_conversion.hpp"
 #include "loop/log.hpp"
 #include "loop/server.hpp"
 #include "rigidd/memory_lock.hpp"
@@ -88,7 +90,32 @@ transport::ros::Options ros_options(const scene::Scene& scene, const rigidd::Rig
   ros.body_names.reserve(scene.world.bodies.size());
   for (const physics::BodySpec& b : scene.world.bodies)
     ros.body_names.push_back(b.name);
-  // The scene's static parts go to /tf_static (ros.static_frames) once scenes have them.
+  // The static parts, for /tf_static and the markers: a plane's frame at its point nearest the
+  // origin, z along its normal n (the rotation from z to n: (1 + n_z, -n_y, n_x, 0) normalised,
+  // or a half turn about x for n = -z); a fixed shape's at its pose.
+  for (const physics::PlaneSpec& p : scene.world.planes) {
+    transport::ros::StaticFrame f;
+    f.name = p.name;
+    f.plane = true;
+    const physics::Vec3 o = p.offset * p.n_W;
+    f.p_WS = {o.x(), o.y(), o.z()};
+    const double w = 1.0 + p.n_W.z();
+    const double norm = std::hypot(w, p.n_W.x(), p.n_W.y());
+    f.q_WS_wxyz = norm < 1e-12
+                      ? std::array<double, 4>{0.0, 1.0, 0.0, 0.0}
+                      : std::array<double, 4>{w / norm, -p.n_W.y() / norm, p.n_W.x() / norm, 0.0};
+    ros.static_frames.push_back(std::move(f));
+  }
+  for (const physics::StaticSpec& s : scene.world.statics) {
+    transport::ros::StaticFrame f;
+    f.name = s.name;
+    f.p_WS = {s.p_WS.x(), s.p_WS.y(), s.p_WS.z()};
+    f.q_WS_wxyz = {s.q_WS.w(), s.q_WS.x(), s.q_WS.y(), s.q_WS.z()};
+    f.shape = common::shape_kind(s.shape.kind);
+    const physics::Vec3 d = common::shape_dims(s.shape);
+    f.dims = {d.x(), d.y(), d.z()};
+    ros.static_frames.push_back(std::move(f));
+  }
   return ros;
 }
 

@@ -317,7 +317,7 @@ TEST(RosMarkers, ShapesScalesAndCapsuleEnds) {
       scene_of({ShapeKind::kSphere, ShapeKind::kBox, ShapeKind::kCylinder, ShapeKind::kEllipsoid,
                 ShapeKind::kCapsule, ShapeKind::kNone});
   Bytes out;
-  encode_markers(d, out);
+  encode_markers(d, {}, out);
   CdrReader r(out);
   ASSERT_EQ(r.count(100, 0), 8u);  // six bodies, two capsule ends
   const ReadMarker sphere = read_marker(r);
@@ -362,7 +362,7 @@ TEST(RosMarkers, PlanBoundsTheLargestSample) {
     n = std::string(128, 'n');
   o.body_names = d.names;
   Bytes markers;
-  encode_markers(d, markers);
+  encode_markers(d, {}, markers);
   TfMessage tf;
   tf.build(o.world_frame, o.body_names);
   const Plan p = plan(o);

@@ -17,6 +17,8 @@ constexpr std::int32_t kAdd = 0;
 // rigid-view's palette (clients/view/web/app.js), by the body's place in the scene.
 constexpr std::array<std::uint32_t, 7> kPalette = {0x4fc3f7, 0xffb74d, 0x81c784, 0xe57373,
                                                    0xba68c8, 0xfff176, 0x90a4ae};
+// Static parts: a neutral grey, apart from the bodies' colours.
+constexpr std::uint32_t kStaticColour = 0x9e9e9e;
 
 struct Shape {
   std::int32_t type;
@@ -89,23 +91,42 @@ Shape shape_of(ShapeKind kind, const double* d) {
 
 }  // namespace
 
-void encode_markers(const SceneDescription& scene, std::vector<std::uint8_t>& out) {
+void encode_markers(const SceneDescription& scene, std::span<const StaticFrame> statics,
+                    std::vector<std::uint8_t>& out) {
   CdrWriter w(out);
   const std::size_t n = scene.lengths_agree() ? scene.body_count() : 0;
   std::size_t capsules = 0;
   for (std::size_t i = 0; i < n; ++i)
     capsules += scene.shape_kinds[i] == ShapeKind::kCapsule ? 1 : 0;
-  w.count(n + 2 * capsules);
+  for (const StaticFrame& s : statics)
+    capsules += !s.plane && s.shape == ShapeKind::kCapsule ? 1 : 0;
+  w.count(n + statics.size() + 2 * capsules);
+  // A capsule: its cylinder, then its two round ends.
+  const auto shape = [&](std::string_view frame, std::string_view ns, std::string_view ends_ns,
+                         std::int32_t id, ShapeKind kind, const double* d, std::uint32_t rgb) {
+    marker(w, frame, ns, id, shape_of(kind, d), rgb);
+    if (kind != ShapeKind::kCapsule) return;
+    const Vec3 ball{2 * d[0], 2 * d[0], 2 * d[0]};
+    for (int end = 0; end < 2; ++end)
+      marker(w, frame, ends_ns, 2 * id + end, Shape{kSphere, ball, end == 0 ? d[1] / 2 : -d[1] / 2},
+             rgb);
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    const double* d = &scene.shape_dims[3 * i];
-    const std::uint32_t rgb = kPalette[i % kPalette.size()];
-    marker(w, scene.names[i], "rigid", scene.ids[i], shape_of(scene.shape_kinds[i], d), rgb);
-    if (scene.shape_kinds[i] == ShapeKind::kCapsule) {
-      const Vec3 ball{2 * d[0], 2 * d[0], 2 * d[0]};
-      for (int end = 0; end < 2; ++end) {
-        marker(w, scene.names[i], "rigid_capsule_ends", 2 * scene.ids[i] + end,
-               Shape{kSphere, ball, end == 0 ? d[1] / 2 : -d[1] / 2}, rgb);
-      }
+    shape(scene.names[i], "rigid", "rigid_capsule_ends", scene.ids[i], scene.shape_kinds[i],
+          &scene.shape_dims[3 * i], kPalette[i % kPalette.size()]);
+  }
+  for (std::size_t k = 0; k < statics.size(); ++k) {
+    const StaticFrame& s = statics[k];
+    const auto id = static_cast<std::int32_t>(k);
+    if (s.plane) {
+      marker(w, s.name, "rigid_static", id,
+             Shape{kCube,
+                   {kPlaneMarkerSide, kPlaneMarkerSide, kPlaneMarkerThickness},
+                   -kPlaneMarkerThickness / 2},
+             kStaticColour);
+    } else {
+      shape(s.name, "rigid_static", "rigid_static_capsule_ends", id, s.shape, s.dims.data(),
+            kStaticColour);
     }
   }
 }

@@ -11,15 +11,25 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "rigid/messages.hpp"
+#include "transport/ros/ros_face.hpp"
 
 namespace rigid::transport::ros {
 
 inline constexpr double kPointMarkerDiameter = 0.1;  // m
 
-// The serialized MarkerArray (action ADD, namespace "rigid", id = the body's id).
-void encode_markers(const SceneDescription& scene, std::vector<std::uint8_t>& out);
+// A plane is drawn as a square of this side (m) and kPlaneMarkerThickness, its top face on the
+// plane (an infinite plane has no size of its own).
+inline constexpr double kPlaneMarkerSide = 20.0;
+inline constexpr double kPlaneMarkerThickness = 0.002;
+
+// The serialized MarkerArray (action ADD): the bodies in namespace "rigid" (id = the body's id),
+// the static parts in "rigid_static" (id = their place in `statics`, each in its own frame),
+// a capsule's ends in "rigid_capsule_ends" (bodies) or "rigid_static_capsule_ends".
+void encode_markers(const SceneDescription& scene, std::span<const StaticFrame> statics,
+                    std::vector<std::uint8_t>& out);
 
 }  // namespace rigid::transport::ros

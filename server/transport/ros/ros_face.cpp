@@ -175,7 +175,7 @@ class RosFace final : public dds::ParticipantAddOn {
 
   void on_scene(const SceneDescription& scene) override {
     std::vector<std::uint8_t> bytes;
-    encode_markers(scene, bytes);
+    encode_markers(scene, opt_.static_frames, bytes);
     counter_->count(write(markers_topic_, markers_writer_.get(), bytes));
     if (!opt_.static_frames.empty()) {
       TfMessage statics;
@@ -412,6 +412,10 @@ Plan plan(const Options& options) {
     }
     tf_bytes += 112 + options.world_frame.size() + body.size();
     marker_bytes += 3 * (kMarkerBytes + body.size());
+  }
+  for (const StaticFrame& s : options.static_frames) {
+    tf_bytes += 112 + options.world_frame.size() + s.name.size();
+    marker_bytes += 3 * (kMarkerBytes + s.name.size());
   }
   p.largest_sample = std::max(tf_bytes, marker_bytes);
   return p;

@@ -4,10 +4,11 @@
 //
 //   /tf            tf2_msgs/msg/TFMessage: world -> each body, at every state (reliable,
 //                  volatile, depth 100: tf2's QoS), stamped with the state's simulated time
-//   /tf_static     the scene's static parts (transient local, depth 1)
+//   /tf_static     the scene's static parts: planes and fixed shapes (transient local, depth 1)
 //   /clock         rosgraph_msgs/msg/Clock: simulated time, at every state (always "/clock":
 //                  where use_sim_time looks, whatever the namespace)
-//   rigid/markers  visualization_msgs/msg/MarkerArray: the bodies' shapes (transient local)
+//   rigid/markers  visualization_msgs/msg/MarkerArray: the bodies' and static parts' shapes
+//                  (transient local)
 //
 // and takes geometry_msgs/msg/WrenchStamped on rigid/BODY/wrench (one topic per body, frame_id
 // "world" or the body's name: the frame the wrench is expressed in; it acts at the centre of mass)
@@ -33,12 +34,16 @@ class ParticipantAddOn;
 
 namespace rigid::transport::ros {
 
-// A static part of the scene (contacts' planes and fixed shapes), published once on /tf_static
-// as world -> name.
+// A static part of the scene (a plane or a fixed shape), published once on /tf_static as
+// world -> name and drawn among the markers. A plane's frame has its origin on the plane, nearest
+// the world's origin, and its z axis along the plane's normal.
 struct StaticFrame {
   std::string name;
   Vec3 p_WS{};
   std::array<double, 4> q_WS_wxyz{1.0, 0.0, 0.0, 0.0};
+  bool plane = false;
+  ShapeKind shape = ShapeKind::kNone;  // a fixed shape's, with dims as SceneInfo's shape_dims
+  Vec3 dims{};
 };
 
 struct Options {

@@ -15,7 +15,10 @@
 //    time in ns, translation and rotation equal bit for bit to rigid/state's for that tick, over
 //    at least 20 states;
 //  - /clock: equal to a state's sim time;
-//  - rigid/markers: each body's shape, scale, colour and frame (transient local: read late);
+//  - /tf_static (transient local): world -> each static part (planes and fixed shapes) at its
+//    pose, a plane's frame on the plane with z along its normal;
+//  - rigid/markers: each body's shape, scale, colour and frame (transient local: read late), and
+//    each static part's;
 //  - ros_discovery_info: node "rigidd" in NAMESPACE listing exactly the GUIDs of its ROS readers
 //    and writers, with GIDs of DISTRO's size (Humble 24 bytes, later 16).
 // Exits 0 when all hold, 1 with one line per failure.
@@ -82,6 +85,14 @@ const bodies = [
 ];
 // rigid-view's palette (clients/view/web/app.js), by the body's place in the scene.
 const palette = [0x4fc3f7, 0xffb74d, 0x81c784, 0xe57373, 0xba68c8, 0xfff176, 0x90a4ae];
+// The scene's static parts: [name, translation, rotation (w x y z), marker type, scale, z offset].
+const h = Math.SQRT1_2;
+const statics = [
+  ["ground", [0, 0, -3], [1, 0, 0, 0], CUBE, [20, 20, 0.002], -0.001],
+  ["wall", [5, 0, 0], [h, 0, h, 0], CUBE, [20, 20, 0.002], -0.001],
+  ["ramp", [3, 0, -2], [0.9659258262890683, 0, 0.25881904510252074, 0], CUBE, [2, 1, 0.1], 0],
+  ["post", [-3, 3, 0], [1, 0, 0, 0], CYLINDER, [0.2, 0.2, 1], 0],
+];
 const services = [
   ["get_simulator_features", "GetSimulatorFeatures"],
   ["get_simulation_state", "GetSimulationState"],
@@ -113,6 +124,7 @@ for (const [name, type] of services) {
   expectedReaders.set(`rq${base}Request`, [`simulation_interfaces::srv::dds_::${type}_Request_`, Reliable, Volatile]);
 }
 
+const near = (a, b) => Math.abs(a - b) < 1e-12;
 const guidOf = (e) => e.guidPrefix + e.entityId.toString(16).padStart(8, "0");
 const hex = (bytes) => Buffer.from(bytes).toString("hex");
 
@@ -144,6 +156,7 @@ subscribe("rigid/state", "rigid::WorldState", rtps.Reliability.BestEffort, Volat
 subscribe(`rt${ns}/tf`, msg("tf2_msgs", "TFMessage"), Reliable, Volatile);
 subscribe("rt/clock", msg("rosgraph_msgs", "Clock"), Reliable, Volatile);
 subscribe(`rt${ns}/rigid/markers`, msg("visualization_msgs", "MarkerArray"), Reliable, TransientLocal);
+subscribe(`rt${ns}/tf_static`, msg("tf2_msgs", "TFMessage"), Reliable, TransientLocal);
 subscribe("ros_discovery_info", msg("rmw_dds_common", "ParticipantEntitiesInfo"), Reliable, TransientLocal);
 
 // msgs/rigid.idl WorldState: tick, sim_time, stamp_ns, ids, position (3n), orientation (4n, w x y
@@ -169,6 +182,7 @@ const states = new Map();  // sim time in ns -> state
 const tfs = [];
 const clocks = [];
 let markers;
+let tfStatic;
 let discovery;
 participant.on("userData", (u) => {
   const topic = u.publication.topicName;
@@ -180,6 +194,8 @@ participant.on("userData", (u) => {
       tfs.push(tfReader.readMessage(u.serializedData));
     } else if (topic === "rt/clock") {
       clocks.push(clockReader.readMessage(u.serializedData));
+    } else if (topic === `rt${ns}/tf_static`) {
+      tfStatic = tfReader.readMessage(u.serializedData);
     } else if (topic === `rt${ns}/rigid/markers`) {
       markers = markerReader.readMessage(u.serializedData);
     } else if (topic === "ros_discovery_info" && guidOf(u.publication).startsWith(rigidd?.guidPrefix ?? "-")) {
@@ -193,7 +209,7 @@ participant.on("userData", (u) => {
 // Wait for 20 /tf messages that have their state, and for the rest, at most 20 s.
 const matched = () => tfs.filter((m) => states.has(ns9(m.transforms[0]?.header.stamp ?? { sec: 0, nanosec: 0 }))).length;
 const start = Date.now();
-while (Date.now() - start < 20000 && !(matched() >= 20 && markers && discovery && clocks.length >= 5 && rigidd)) {
+while (Date.now() - start < 20000 && !(matched() >= 20 && markers && tfStatic && discovery && clocks.length >= 5 && rigidd)) {
   await new Promise((r) => setTimeout(r, 50));
 }
 await participant.shutdown();
@@ -259,6 +275,18 @@ check(clockMatches >= Math.min(5, clocks.length), `only ${clockMatches} of ${clo
 if (check(markers !== undefined, `no rigid/markers (transient local) received`)) {
   const main = markers.markers.filter((m) => m.ns === "rigid");
   const ends = markers.markers.filter((m) => m.ns === "rigid_capsule_ends");
+  const fixed = markers.markers.filter((m) => m.ns === "rigid_static");
+  const fixedEnds = markers.markers.filter((m) => m.ns === "rigid_static_capsule_ends");
+  check(fixed.length === statics.length, `${fixed.length} static markers, not ${statics.length}`);
+  check(fixedEnds.length === 2 && fixedEnds.every((m) => m.header.frame_id === "post"),
+        "the static capsule 'post' has no two ends");
+  fixed.forEach((m, i) => {
+    const [name, , , type, scale, z] = statics[i] ?? [];
+    const where = `static marker ${i} (${name})`;
+    const s = [m.scale.x, m.scale.y, m.scale.z];
+    check(m.header.frame_id === name && m.type === type && s.every((v, k) => near(v, scale[k])) &&
+          near(m.pose.position.z, z), `${where}: frame '${m.header.frame_id}', type ${m.type}, scale ${s}, z ${m.pose.position.z}`);
+  });
   check(main.length === bodies.length, `${main.length} body markers, not ${bodies.length}`);
   check(ends.length === 2 && ends.every((m) => m.header.frame_id === "pill" && m.type === SPHERE),
         "the capsule 'pill' has no two SPHERE ends");
@@ -274,6 +302,20 @@ if (check(markers !== undefined, `no rigid/markers (transient local) received`))
     const c = [m.color.r, m.color.g, m.color.b].map((v) => Math.round(v * 255));
     check(c[0] === rgb >> 16 && c[1] === ((rgb >> 8) & 255) && c[2] === (rgb & 255) && m.color.a === 1,
           `${where}: colour ${c}, not rigid-view's #${rgb.toString(16)}`);
+  });
+}
+
+// /tf_static: each static part at its pose under world (to rounding: the plane's frame is computed).
+if (check(tfStatic !== undefined, "no /tf_static (transient local) received")) {
+  check(tfStatic.transforms.length === statics.length, `/tf_static has ${tfStatic.transforms.length} transforms, not ${statics.length}`);
+  tfStatic.transforms.forEach((t, i) => {
+    const [name, p, q] = statics[i] ?? [];
+    const where = `/tf_static ${i} (${name})`;
+    check(t.header.frame_id === "world" && t.child_frame_id === name, `${where}: '${t.header.frame_id}' -> '${t.child_frame_id}'`);
+    const tp = [t.transform.translation.x, t.transform.translation.y, t.transform.translation.z];
+    const tq = [t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y, t.transform.rotation.z];
+    check(tp.every((v, k) => near(v, p[k])) && tq.every((v, k) => near(v, q[k])),
+          `${where}: pose ${tp} ${tq}, not ${p} ${q}`);
   });
 }
 
