@@ -14,7 +14,8 @@ install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/rigid-keys DESTINATION ${CMAKE_IN
 
 file(GLOB _rigid_scenes CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/config/scenes/*.pbtxt)
 install(FILES ${_rigid_scenes} DESTINATION ${CMAKE_INSTALL_DATADIR}/rigid/scenes)
-install(FILES ${PROJECT_SOURCE_DIR}/config/cyclonedds.xml DESTINATION ${CMAKE_INSTALL_DATADIR}/rigid)
+install(FILES ${PROJECT_SOURCE_DIR}/config/cyclonedds.xml ${PROJECT_SOURCE_DIR}/config/cyclonedds-ros.xml
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/rigid)
 
 # The unit names the installed rigidd, scene and DDS config: configured when installing, so that
 # the prefix is the one installed to (cmake --install --prefix P as well as CMAKE_INSTALL_PREFIX).

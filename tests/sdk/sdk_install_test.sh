@@ -26,6 +26,7 @@ for scene in "$source"/config/scenes/*.pbtxt; do
   [[ -f $prefix/share/rigid/scenes/$(basename "$scene") ]] || fail "scene $(basename "$scene") not installed"
 done
 [[ -f $prefix/share/rigid/cyclonedds.xml ]] || fail "share/rigid/cyclonedds.xml not installed"
+[[ -f $prefix/share/rigid/cyclonedds-ros.xml ]] || fail "share/rigid/cyclonedds-ros.xml not installed"
 unit=$prefix/lib/systemd/system/rigidd.service
 [[ -f $unit ]] || fail "$unit not installed"
 grep -q "^ExecStart=$prefix/bin/rigidd --scene $prefix/share/rigid/scenes/default.pbtxt$" "$unit" ||
