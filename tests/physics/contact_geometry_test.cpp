@@ -8,8 +8,10 @@
 #include "physics/contact/gap.hpp"
 #include "physics/contact/gjk.hpp"
 #include "physics/contact/point_solver.hpp"
+#include "physics/contact/reach.hpp"
 #include "physics/contact/support.hpp"
 #include "physics/contact/time_of_impact.hpp"
+#include "physics/contact/wake_schedule.hpp"
 
 namespace rigid::physics::contact {
 namespace {
@@ -298,6 +300,49 @@ TEST(ContactPointSolver, ABoxLandingFlatOnFourCornersGetsNoSpin) {
   ASSERT_TRUE(s.converged);
   EXPECT_NEAR(s.dv.z(), 1.25, 1e-13);
   EXPECT_LE(s.dw.norm(), 1e-12);
+}
+
+TEST(ContactReach, NoTouchBeforeTheTimeToReach) {
+  // A body falling from rest onto a plane: D = h, v = 0, a = g: t = sqrt(2 h / g) exactly.
+  EXPECT_NEAR(time_to_reach(0.9, 0.0, 9.81), std::sqrt(2 * 0.9 / 9.81), 1e-15);
+  EXPECT_NEAR(time_to_reach(2.0, 4.0, 0.0), 0.5, 1e-15);
+  EXPECT_EQ(time_to_reach(0.0, 1.0, 1.0), 0.0);
+  EXPECT_TRUE(std::isinf(time_to_reach(1.0, 0.0, 0.0)));
+  // Clearance: the nearest part less the bounding radius.
+  StaticPart ball;
+  ball.kind = StaticPart::Kind::kShape;
+  ball.convex = shape(ShapeKind::kSphere, Vec3(0.5, 0, 0));
+  ball.p_WS = Vec3(3, 0, 5);
+  const std::vector<StaticPart> parts = {ground(0.0), ball};
+  EXPECT_NEAR(clearance(parts, Vec3(0, 0, 4), 0.2), std::sqrt(10.0) - 0.7, 1e-15);
+  EXPECT_NEAR(clearance(parts, Vec3(3, 0, 6.5), 0.2), 0.8, 1e-15);
+}
+
+TEST(ContactWakeSchedule, BodiesComeDueInOrderOnceAndReschedulingReplaces) {
+  WakeSchedule w;
+  w.reset(4);
+  w.at(2, 10);
+  w.at(0, 5);
+  w.at(1, 5);
+  w.at(3, 7);
+  w.at(3, 20);  // replaces 7
+  std::vector<int> due;
+  w.take_due(9, [&](int id) { due.push_back(id); });
+  EXPECT_EQ(due, (std::vector<int>{0, 1}));
+  due.clear();
+  w.take_due(9, [&](int id) { due.push_back(id); });
+  EXPECT_TRUE(due.empty());
+  EXPECT_EQ(w.when(0), WakeSchedule::kNever);
+  w.take_due(100, [&](int id) { due.push_back(id); });
+  EXPECT_EQ(due, (std::vector<int>{2, 3}));
+  // Many reschedules of one body stay within the reserved capacity (compaction) and keep the last.
+  for (int k = 0; k < 1000; ++k)
+    w.at(1, 1000 - k);
+  due.clear();
+  w.take_due(0, [&](int id) { due.push_back(id); });
+  EXPECT_TRUE(due.empty());
+  w.take_due(1, [&](int id) { due.push_back(id); });
+  EXPECT_EQ(due, (std::vector<int>{1}));
 }
 
 }  // namespace
