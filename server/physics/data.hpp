@@ -61,6 +61,8 @@ struct Data {
   // them; the step itself is taken as the scheme defines it, never clamped. The sum of the
   // threads' Share::large_rotations, added after each step.
   std::int64_t large_rotations = 0;
+  // How bodies meet the static geometry (contact/contact_world.hpp); empty without any.
+  ContactData contact;
 
   template <BodyMotion K>
   GroupEntries<K>& entries(GroupTag<K> = {}) {

@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "physics/contact/contact_world.hpp"
 #include "physics/groups.hpp"
 #include "physics/integrator.hpp"
 #include "physics/spec_store.hpp"
@@ -84,6 +85,8 @@ struct Model {
   SpecStore specs;
   std::vector<int> by_name;
   SceneLoads scene_loads;
+  // Static geometry and what bodies need to meet it (contact/contact_world.hpp); empty without.
+  ContactModel contact;
 
   int body_count() const { return static_cast<int>(motion.size()); }
   template <BodyMotion K>

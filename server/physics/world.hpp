@@ -16,12 +16,21 @@
 //   2. regroup: each body whose loads started or stopped turning it since the last step moves to
 //      the quiet or the loaded run of its group (each group's entries hold its quiet bodies, then
 //      its loaded ones: groups.hpp), a swap with the entry at the runs' boundary;
-//   3. integrate: the integrator's kernel (kernels.hpp) over every group, the work cut into
+//   3. (a world with static parts) list the bodies the contact stage looks at this step: those
+//      that could reach a part within it (contact/reach.hpp: a body is next looked at when its
+//      clearance and bounds on its speed and acceleration say it could touch) and those parts
+//      support, except the ones held at rest; keep their motion at the step's start;
+//   4. integrate: the integrator's kernel (kernels.hpp) over every group, the work cut into
 //      chunks (per group a slice of each run) that the pool's threads claim (set_threads); the
 //      kernel evaluates the loads (scene loads + applied loads) at every stage it needs them;
-//   4. count the body-steps that turned by more than pi (large_rotation_steps), and the step:
+//   5. (a world with static parts) the contact stage (world_contact.cpp): for each listed body,
+//      a free one checked on its own trajectory over the step keeps the kernel's state if it
+//      touches nothing; otherwise, and for a supported one, the step is taken again from its start
+//      split at every event (contact/contact_step.hpp: impacts located and solved, bounce series
+//      summed, supports' forces, slips that stop), and the step's contact events recorded;
+//   6. count the body-steps that turned by more than pi (large_rotation_steps), and the step:
 //      time = step_count * dt (never accumulated, so it does not drift);
-//   5. guard the slice of the bodies whose turn it is (guard_phase): each that went non-finite or
+//   7. guard the slice of the bodies whose turn it is (guard_phase): each that went non-finite or
 //      absurd is frozen at its last good pose, the others' poses are kept as their last good.
 #pragma once
 
@@ -34,6 +43,7 @@
 #include <thread>
 
 #include "physics/body_motion.hpp"
+#include "physics/contact/contact_event.hpp"
 #include "physics/integrator.hpp"
 #include "physics/spec.hpp"
 
@@ -193,6 +203,22 @@ class World {
   // ones.
   double total_energy() const;
   Vec3 angular_momentum_W(int id) const;
+
+  // Static geometry (WorldSpec::planes, then ::statics): how many parts, and each one's name.
+  int static_part_count() const;
+  std::string_view static_part_name(int part) const;
+  // The contact events of the most recent step() or step(n) call, in order of step, then body id,
+  // then time (each event's time is the world's time it happened at, within its step). At most
+  // kMaxContactEvents a step are kept; contact_events_dropped() counts the rest since the world
+  // was made or reset. Empty for a world without static parts.
+  std::span<const ContactEvent> contact_events() const;
+  std::int64_t contact_events_dropped() const;
+  // Body-steps whose events came faster than the contact stage resolves them one by one: the body
+  // held its state over the rest of that step (contact/contact_step.hpp). Counted, never hidden.
+  std::int64_t contact_capped_steps() const;
+  // How parts support a body now: not at all, resting on them, sliding, or moving without slip.
+  enum class Support { kFree, kResting, kSliding, kRolling };
+  Support support(int id) const;
 
  private:
   struct Impl;

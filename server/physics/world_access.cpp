@@ -82,6 +82,7 @@ void World::Impl::set_state(int id, const BodyState& st) {
     }
   });
   invalidate_cache(id);
+  contact_state_set(id);
 }
 
 BodyState World::state(int id) const {
@@ -196,6 +197,7 @@ void World::reset() {
     d.pending_slot[p.id] = -1;
   d.pending.clear();
   clear_applied();
+  w.reset_contacts();
   for (int i = 0; i < body_count(); ++i)
     d.last_good[i] = detail::GuardPose(w.motion(i).q, w.motion(i).x);
 }

@@ -437,6 +437,7 @@ void World::Impl::reserve_scratch() {
   data.frozen_linear.reserve(n);
   data.regroup_ids.reserve(n);
   detail::for_each_group([&](auto k) { data.entries(k).reserve_terms(); });
+  reserve_contacts();
 }
 
 // The scene's loads (Model::scene_loads): of the bodies with angular drag or loads of their own,
@@ -518,7 +519,9 @@ void World::Impl::build(const WorldSpec& spec) {
     intern(lists, model, data);
   }
   build_loads(spec, model);
+  build_contacts(spec, model);
   place_bodies(spec.threads);
+  reset_contacts();
 }
 
 void World::Impl::place_bodies(int threads_wanted) {

@@ -89,7 +89,14 @@ struct World::Impl {
     return with_body(id, [](auto g, int i) { return g.entries.load_value(i); });
   }
   void set_loads(int id, const detail::Loads& v, std::int32_t shared_terms = 0) {
+    // A body the contact stage holds or schedules by its loads is looked at again when they
+    // change (a value written again, as clear_applied() does every tick, changes nothing).
+    if (model().contact.enabled() && !same_loads(load_value(id), v)) contact_wake(id);
     with_body(id, [&](auto g, int i) { g.entries.set_load(i, v, shared_terms); });
+  }
+  static bool same_loads(const detail::Loads& a, const detail::Loads& b) {
+    return a.flags == b.flags && a.f_W == b.f_W && a.f_P == b.f_P && a.tau_P == b.tau_P &&
+           a.tau_W == b.tau_W && a.fr == b.fr;
   }
   // Body id's loads back to the scene's (SceneLoads entry b, or none: -1), its terms shared.
   void set_scene_loads(int id, int b);
@@ -132,6 +139,23 @@ struct World::Impl {
   }
   void freeze(int id);
   void thaw_all();
+
+  // --- world_contact.cpp ---
+  // The static parts and each body's collision shape and surface into the Model; the Data's
+  // contact state to its start (every body free and due at the first step).
+  void build_contacts(const WorldSpec& spec, detail::Model& model);
+  void reset_contacts();
+  void reserve_contacts();
+  // Body id's loads, state or momentum changed: a held body is let go, and it is looked at in the
+  // next step; after set_state it is free until the stage finds what it touches.
+  void contact_wake(int id);
+  void contact_state_set(int id);
+  // Before the kernels: the bodies the stage looks at this step, and their motion at its start.
+  void contact_prepare();
+  // After the kernels: each of those bodies' step with its contacts.
+  void contact_stage();
+  void after_free(int id);
+  void hold(int id);
 
   // --- world_access.cpp ---
   void set_state(int id, const BodyState& s);

@@ -13,10 +13,12 @@ using detail::Motion;
 // --- the step ---
 
 void World::step() {
+  impl_->data.contact.events.clear();
   impl_->step(false);
 }
 
 void World::step(std::int64_t n) {
+  impl_->data.contact.events.clear();
   for (std::int64_t i = 0; i < n; ++i)
     impl_->step(i + 1 < n);
 }
@@ -25,11 +27,14 @@ void World::step(std::int64_t n) {
 void World::Impl::step(bool another_follows) {
   if (!data.pending.empty()) apply_pending_impulses();
   if (!data.regroup_ids.empty()) regroup();
+  const bool contacts = model().contact.enabled();
+  if (contacts) contact_prepare();
   const int parts = step_parts();
   run_parts(
       parts, [](Impl& impl, detail::Share& sh) { impl.run_share(sh); }, another_follows);
   for (int k = 0; k < parts; ++k)
     data.large_rotations += shares[k].large_rotations;
+  if (contacts) contact_stage();
   ++data.steps;
   guard();
 }
@@ -50,6 +55,7 @@ void World::Impl::apply_pending_impulses() {
       }
     });
     invalidate_cache(id);
+    contact_wake(id);
     data.pending_slot[id] = -1;
   }
   data.pending.clear();
