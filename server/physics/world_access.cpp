@@ -352,7 +352,14 @@ double World::total_energy() const {
   double e = 0.0;
   for (int i = 0; i < body_count(); ++i) {
     e += kinetic_energy(i);
-    const detail::Linear& lin = impl_->linear(i);
+    // A body the contact stage holds at rest points at the still row; its gravity is its own.
+    const detail::ContactData& c = impl_->data.contact;
+    const detail::Linear& lin = !c.held_linear.empty() && c.held_linear[i] >= 0
+                                    ? impl_->with_body(i,
+                                                       [&](auto g, int) -> const detail::Linear& {
+                                                         return g.params.linear[c.held_linear[i]];
+                                                       })
+                                    : impl_->linear(i);
     e -= impl_->model().specs.params(i).mass * lin.g.dot(impl_->motion(i).x);
   }
   return e;

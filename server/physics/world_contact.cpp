@@ -350,7 +350,8 @@ void World::Impl::build_contacts(const WorldSpec& spec, detail::Model& model) {
   for (const PlaneSpec& p : spec.planes) {
     const std::string who = "plane '" + p.name + "'";
     if (!p.n_W.allFinite() || !(p.n_W.norm() > 0.0) || !std::isfinite(p.offset)) {
-      throw SpecError(-1, "plane", who + ": the normal must be finite and non-zero, the offset finite");
+      throw SpecError(-1, "plane",
+                      who + ": the normal must be finite and non-zero, the offset finite");
     }
     check_surface(p.surface, -1, who);
     contact::StaticPart part;
@@ -528,8 +529,8 @@ void World::Impl::contact_prepare() {
   // active = watched + due, ascending and without repeats.
   std::sort(c.next_watched.begin(), c.next_watched.end());
   c.active.clear();
-  std::set_union(c.watched.begin(), c.watched.end(), c.next_watched.begin(),
-                 c.next_watched.end(), std::back_inserter(c.active));  // within the capacity
+  std::set_union(c.watched.begin(), c.watched.end(), c.next_watched.begin(), c.next_watched.end(),
+                 std::back_inserter(c.active));  // within the capacity
   c.start.clear();
   for (const int id : c.active)
     c.start.push_back(motion(id));
@@ -596,8 +597,8 @@ void World::Impl::contact_stage() {
       if constexpr (GroupTraits<G::kKind>::kTurns) g.entries.plan_ok[i] = 0;
       const std::size_t used = c.events.size();
       c.events.resize(detail::kMaxContactEvents);  // within the reserved capacity
-      contact::EventSink sink(c.events.data() + used, detail::kMaxContactEvents -
-                                                          static_cast<int>(used));
+      contact::EventSink sink(c.events.data() + used,
+                              detail::kMaxContactEvents - static_cast<int>(used));
       const contact::ContactStepResult r = contact::contact_step(body, cb, cm.parts, dt, st, sink);
       c.events.resize(used + static_cast<std::size_t>(sink.size()));
       for (std::size_t e = used; e < c.events.size(); ++e)

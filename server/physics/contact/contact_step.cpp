@@ -73,6 +73,42 @@ bool sharp(const Convex& c) {
   return c.kind == Convex::Kind::kBox;
 }
 
+// The feature of the body a contact point belongs to, in B, from the point p_B and the direction
+// u_B towards the part: a box's corner itself; the core point under a rounded shape's surface (a
+// sphere's centre, a capsule's end); a cylinder's end centre. Followed through a sub-step, it gives
+// the point that touches at each instant (contact_offset), rolling over the surface where it does.
+Vec3 core_feature(const Convex& c, const Vec3& p_B, const Vec3& u_B) {
+  switch (c.kind) {
+    case Convex::Kind::kSphere:
+    case Convex::Kind::kCapsule:
+      return p_B - c.radius * u_B;
+    case Convex::Kind::kCylinder:
+      return Vec3(0.0, 0.0, p_B.z() < 0.0 ? -c.half.z() : c.half.z());
+    default:
+      return p_B;
+  }
+}
+// Where that feature touches along the normal n at `pose`, from the centre of mass (W).
+Vec3 contact_offset(const Convex& c, const Pose& pose, const Vec3& n, const Vec3& core_B,
+                    const StaticPart& part) {
+  switch (c.kind) {
+    case Convex::Kind::kSphere:
+    case Convex::Kind::kCapsule:
+      return pose.q_WB * core_B - c.radius * n;
+    case Convex::Kind::kCylinder: {
+      const Vec3 u_B = pose.q_WB.conjugate() * (-n);
+      const double t = std::hypot(u_B.x(), u_B.y());
+      const Vec3 rim =
+          t > 0.0 ? Vec3(c.half.x() * u_B.x() / t, c.half.x() * u_B.y() / t, 0.0) : Vec3::Zero();
+      return pose.q_WB * (core_B + rim);
+    }
+    case Convex::Kind::kEllipsoid:
+      return gap(c, pose, part).p_W - pose.p_WBo;
+    default:
+      return pose.q_WB * core_B;
+  }
+}
+
 void emit(EventSink& sink, ContactEventKind kind, std::int32_t body, std::int32_t part, double t,
           const Vec3& p, const Vec3& n, const Vec3& J = Vec3::Zero()) {
   ContactEvent e;
@@ -310,7 +346,12 @@ class Stepper {
       if (row.n_W.dot(u) > bounce[i]) continue;
       const Vec3 slip = u - row.n_W * row.n_W.dot(u);
       const double slip_speed = slip.norm();
-      slipping[n] = slip_speed > kStillSpeed && row.mu > 0.0;
+      // A slip friction would stop within a millionth of the sub-step stops now: stop events
+      // that close on each other at round-off (two points of a line taking turns) would
+      // otherwise split the step without end, for a time error of at most 1e-6 h.
+      const double slip_floor =
+          std::max(kStillSpeed, 1e-6 * h * row.mu * std::abs(row.n_W.dot(a_free)));
+      slipping[n] = slip_speed > slip_floor && row.mu > 0.0;
       if (slipping[n]) {
         row.sliding = true;
         row.slip_W = slip / slip_speed;
@@ -449,12 +490,11 @@ class Stepper {
     for (int i = 0; i < n; ++i) {
       // A slip that starts now grows over the sub-step: only one under way can stop.
       if (!rows[i].sliding || !slipping[i]) continue;
-      const Vec3 r_B = m.pose.q_WB.conjugate() * rows[i].r_W;
+      const Vec3 core_B = core_feature(*cb_.shape, m.pose.q_WB.conjugate() * rows[i].r_W,
+                                       m.pose.q_WB.conjugate() * (-rows[i].n_W));
       const auto along = [&](double s) {
         const MotionSample q = tr.at(s);
-        const Vec3 r = sharp(*cb_.shape)
-                           ? Vec3(q.pose.q_WB * r_B)
-                           : Vec3(gap(*cb_.shape, q.pose, parts_[part_of_[i]]).p_W - q.pose.p_WBo);
+        const Vec3 r = contact_offset(*cb_.shape, q.pose, rows[i].n_W, core_B, parts_[part_of_[i]]);
         const Vec3 u = q.v_W + q.w_W.cross(r);
         return slip_now[i].dot(u - rows[i].n_W * rows[i].n_W.dot(u));
       };
@@ -526,7 +566,9 @@ class Stepper {
     for (const std::int32_t k : cb_.candidates) {
       const MotionSample m = body_.state();
       const Gap g = gap(*cb_.shape, m.pose, parts_[k]);
-      if (g.distance >= 0.0) continue;
+      // Inside by round-off of its position at most: left as it is (a lift would give it
+      // potential energy that nothing pays for).
+      if (g.distance >= -touch_tolerance(m.pose.p_WBo.norm())) continue;
       body_.shift(-g.distance * g.n_W);
       const Vec3 r = g.p_W - m.pose.p_WBo;
       const double un = g.n_W.dot(m.v_W + m.w_W.cross(r));
@@ -562,7 +604,7 @@ class Stepper {
     for (int j = 0; j < before.n_parts; ++j) {
       const StaticPart& part = parts_[before.parts[j]];
       const Gap g = gap(*cb_.shape, m.pose, part);
-      if (g.distance < 0.0) body_.shift(-g.distance * g.n_W);
+      if (g.distance < -touch_tolerance(m.pose.p_WBo.norm())) body_.shift(-g.distance * g.n_W);
     }
     if (!body_.conservative()) return;
     const double e1 = body_.energy();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 namespace rigid::physics::contact {
@@ -27,6 +28,12 @@ double safe_step(double g, double r, double c) {
 // One smooth piece of a gap: its value, rate and bound on its second derivative.
 struct Piece {
   double g = kInf, r = 0.0, c = 0.0;
+  // The gap's own rate now, where r is a pessimistic bound on it (a cylinder's rim): what says
+  // whether the piece is closing in.
+  double now = std::numeric_limits<double>::quiet_NaN();
+  double rate_now() const { return std::isnan(now) ? r : now; }
+  // How far the bound holds (a piece whose bound is valid only near the sample).
+  double cap = kInf;
 };
 
 // The lower envelope of the pieces: the gap, the smallest safe step, and the rate of the lowest
@@ -39,8 +46,8 @@ struct Envelope {
   int next = 0;  // the index of the next piece added
   void add(const Piece& p) {
     if ((ignore >> next++) & 1u) return;
-    if (p.g < gap) gap = p.g, rate = p.r;
-    step = std::min(step, safe_step(p.g, p.r, p.c));
+    if (p.g < gap) gap = p.g, rate = p.rate_now();
+    step = std::min({step, safe_step(p.g, p.r, p.c), p.cap});
   }
 };
 
@@ -83,11 +90,26 @@ Envelope plane_envelope(const Convex& body, const MotionSample& m, const Traject
       // the sample and whose rate is pessimistic by at most r |w|.
       const Vec3 u_B = m.pose.q_WB.conjugate() * (-plane.n_W);
       const double r = body.half.x();
-      const double lift = r * std::hypot(u_B.x(), u_B.y());
+      const double t_xy = std::hypot(u_B.x(), u_B.y());
+      const double lift = r * t_xy;
+      // The rim's lowest point now (the disk's centre when it lies flat), for the rate now.
+      const Vec3 rim =
+          t_xy > 0.0 ? Vec3(r * u_B.x() / t_xy, r * u_B.y() / t_xy, 0.0) : Vec3::Zero();
       for (const double z : {body.half.z(), -body.half.z()}) {
         Piece p = plane_point(m, t, plane, Vec3(0.0, 0.0, z), 0.0);
         p.g -= lift;
-        p.r -= r * t.w_max;
+        p.now = plane.n_W.dot(m.v_W + m.w_W.cross(m.pose.q_WB * (rim + Vec3(0.0, 0.0, z))));
+        if (t_xy > 0.2) {
+          // Tilted well off its end: the rim's lowest point moves smoothly round the rim, and
+          // the gap's rate is that point's; its second derivative adds the rim's curvature term
+          // r |u'|^2 / |u_xy| <= r w^2 / (t_xy / 2), while |u_xy| stays above half of what it
+          // is, which it does for t_xy / (2 w) at least.
+          p.r = p.now;
+          p.c += r * t.w_max * t.w_max / (0.5 * t_xy);
+          if (t.w_max > 0.0) p.cap = 0.5 * t_xy / t.w_max;
+        } else {
+          p.r -= r * t.w_max;
+        }
         e.add(p);
       }
       break;
