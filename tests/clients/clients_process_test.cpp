@@ -1,6 +1,6 @@
 // rigidctl, rigid-record, rigid-sim --replay and rigid-attitude as real processes against a real
 // rigidd over loopback, on each bus. Every wait is bounded; every process is started in its own
-// process group (tests/rigidd/rigidd_process.hpp), stopped by PID, and killed with its group if a
+// process group (tests/support/rigidd_process.hpp), stopped by PID, and killed with its group if a
 // test fails first. Needs scripts/net-setup (LCM's multicast route on lo) and CYCLONEDDS_URI
 // (ctest sets it).
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 // journaled state bit for bit. Then the failure reports: a changed command is a divergence with
 // its tick (exit 3), a gap stops the replay (exit 4), a damaged tail is replayed up to the damage.
 //
-// Its own program: operator new is replaced (tests/physics/allocation_counter.hpp) to count the
+// Its own program: operator new is replaced (tests/support/allocation_counter.hpp) to count the
 // allocations on the loop thread.
 #include "loop/journal.hpp"
 

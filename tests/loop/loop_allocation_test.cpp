@@ -1,5 +1,5 @@
 // "No allocation on the loop thread after start-up", proved: operator new is replaced in this test
-// program (tests/physics/allocation_counter.hpp, every form) to count the allocations made on the
+// program (tests/support/allocation_counter.hpp, every form) to count the allocations made on the
 // thread that runs Loop::run(), while the loop is driven through everything it does: ticks in each
 // mode, wrenches (new, replaced, expiring, stale), every control request, resets, refusals, and the
 // hand-off to real Publishers (over a fake bus).
