@@ -71,17 +71,18 @@ class Scratch {
   void rewind() { next_ = 0; }
   template <class T>
   T* take(std::size_t count) {
-    static_assert(std::is_trivially_copyable_v<T> && alignof(T) <= alignof(std::max_align_t));
+    // Byte storage (whose allocation implicitly creates the trivially copyable T objects written
+    // into it), aligned as operator new aligns it.
+    static_assert(std::is_trivially_copyable_v<T> &&
+                  alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__);
     if (next_ == buffers_.size()) buffers_.emplace_back();
-    std::vector<std::max_align_t>& b = buffers_[next_++];
-    const std::size_t words =
-        (count * sizeof(T) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
-    if (b.size() < words) b.resize(words);
+    std::vector<std::byte>& b = buffers_[next_++];
+    if (b.size() < count * sizeof(T)) b.resize(count * sizeof(T));
     return reinterpret_cast<T*>(b.data());
   }
 
  private:
-  std::vector<std::vector<std::max_align_t>> buffers_;
+  std::vector<std::vector<std::byte>> buffers_;
   std::size_t next_ = 0;
 };
 
