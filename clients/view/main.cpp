@@ -21,10 +21,14 @@
 #include <tuple>
 #include <vector>
 
+#include "cli/state_rows.hpp"
+#include "common/foxglove_messages.hpp"
+#include "common/log_records.hpp"
 #include "common/wrench_table.hpp"
 #include "drift.hpp"
 #include "playback_viewer.hpp"
 #include "protocol.hpp"
+#include "rigid.pb.h"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "server.hpp"
@@ -71,11 +75,13 @@ class Viewer {
     so.port = o.port;
     so.read_only = o.read_only;
     so.web_dir = o.web_dir.empty() ? default_web_dir() : std::filesystem::path(o.web_dir);
+    so.foxglove_origins = o.foxglove_origins;
     server_ = std::make_unique<view::ViewServer>(
         so,
         [this](std::uint64_t page, const view::PageCommand& c,
                std::function<void(view::Bytes)> reply) { command(page, c, std::move(reply)); },
-        [this] { return greeting(); });
+        [this] { return greeting(); },
+        [this](view::foxglove::Channel channel) { return foxglove_latest(channel); });
   }
 
   std::uint16_t port() const { return server_->port(); }
@@ -96,8 +102,11 @@ class Viewer {
       {
         const std::lock_guard lock(mutex_);
         stats_text_ = text;
+        stats_ = s;
       }
       server_->broadcast_text(text);
+      if (server_->foxglove_subscribed(Channel::kStats))
+        server_->broadcast_foxglove(Channel::kStats, foxglove_stats(s));
     });
     server_->start();
     pump_ = std::thread([this] { pump(); });
@@ -126,6 +135,7 @@ class Viewer {
   // A SceneInfo that differs from the one drawn (LCM repeats it every second).
   void set_scene(const SceneDescription& d) {
     view::Bytes text;
+    std::map<std::string, std::int32_t, std::less<>> ids;
     {
       const std::lock_guard lock(mutex_);
       if (scene_ && *scene_ == d) return;
@@ -133,8 +143,89 @@ class Viewer {
       ++generation_;
       text = std::make_shared<const std::string>(view::scene_json(d, generation_));
       scene_text_ = text;
+      names_ = clients::BodyNames(d);
+      for (std::size_t i = 0; i < d.ids.size() && i < d.names.size(); ++i)
+        ids.emplace(d.names[i], d.ids[i]);
     }
     server_->broadcast_text(text);
+    server_->set_body_ids(std::move(ids));
+    for (const Channel c : {Channel::kBodies, Channel::kScene})
+      if (server_->foxglove_subscribed(c)) server_->broadcast_foxglove(c, foxglove_latest(c));
+  }
+
+  // Foxglove (docs/foxglove.md). Messages are made only for channels some client subscribes to:
+  // without Foxglove clients rigid-view does what it did without them.
+  using Channel = view::foxglove::Channel;
+
+  static std::uint64_t wall_ns() {
+    return static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch() /
+                                      std::chrono::nanoseconds(1));
+  }
+
+  static view::FoxgloveMessage foxglove_stats(const StatsReport& s) {
+    msgs::StatsRecord r;
+    common::to_record(s, 0, r);
+    return {std::make_shared<const std::string>(r.SerializeAsString()), wall_ns()};
+  }
+
+  // The newest message of a channel: for a client that subscribes, and (kBodies, kScene) for a
+  // scene change. Any thread but the pump's (which holds mutex_ while it encodes).
+  view::FoxgloveMessage foxglove_latest(Channel channel) {
+    const std::lock_guard lock(mutex_);
+    switch (channel) {
+      case Channel::kBodies:
+        if (!scene_) return {};
+        // Every entity of the topic replaced: bodies of an earlier scene go.
+        return {std::make_shared<const std::string>(
+                    common::foxglove::scene_update(*scene_, wall_ns(), true)),
+                wall_ns()};
+      case Channel::kScene: {
+        if (!scene_) return {};
+        msgs::SceneRecord r;
+        common::to_record(*scene_, 0, r);
+        return {std::make_shared<const std::string>(r.SerializeAsString()), wall_ns()};
+      }
+      case Channel::kStats:
+        return stats_ ? foxglove_stats(*stats_) : view::FoxgloveMessage{};
+      case Channel::kTransforms:
+      case Channel::kBodyStates:
+      case Channel::kState:
+        return latest_ ? foxglove_state(channel, *latest_) : view::FoxgloveMessage{};
+    }
+    return {};
+  }
+
+  // A state as one of the state channels' messages, its time rigidd's stamp. mutex_ held (the
+  // bodies' names by id come from the scene).
+  view::FoxgloveMessage foxglove_state(Channel channel, const StateFrame& s) {
+    if (!std::equal(s.ids.begin(), s.ids.end(), name_ids_.begin(), name_ids_.end()) ||
+        names_generation_ != generation_) {
+      name_ids_ = s.ids;
+      names_generation_ = generation_;
+      state_names_.clear();
+      for (const std::int32_t id : s.ids)
+        state_names_.push_back(names_.name(id));
+    }
+    const std::uint64_t time = s.stamp_ns > 0 ? static_cast<std::uint64_t>(s.stamp_ns) : wall_ns();
+    auto out = std::make_shared<std::string>();
+    switch (channel) {
+      case Channel::kTransforms:
+        common::foxglove::append_frame_transforms(*out, state_names_, s.position.data(),
+                                                  s.orientation.data(), time);
+        break;
+      case Channel::kBodyStates:
+        common::foxglove::append_body_states(*out, s, state_names_);
+        break;
+      case Channel::kState: {
+        msgs::StateRecord r;
+        common::to_record(s, 0, r);
+        r.AppendToString(out.get());
+        break;
+      }
+      default:
+        return {};
+    }
+    return {std::move(out), time};
   }
 
   // Bus thread: the newest accepted wrench per (source, body, key), bounded; the pump forwards
@@ -260,7 +351,7 @@ class Viewer {
       // come after the states it acted on: the newest state's tick is a lower bound for it.
       const std::lock_guard lock(mutex_);
       if (latest_ && drives_.size() < kMaxPendingDrives)
-        drives_.push_back(Drive{c.body, latest_->tick, kPushTtl});
+        drives_.push_back(Drive{c.body, latest_->tick, c.ttl > 0 ? c.ttl : kPushTtl});
     }
     WrenchCommand w;
     w.key = static_cast<std::int32_t>(page & 0x7fffffff);  // one wrench per page and body
@@ -268,7 +359,7 @@ class Viewer {
     w.force = c.force;
     w.point = c.point;
     w.force_frame = Frame::kWorld;
-    w.ttl = kPushTtl;
+    w.ttl = c.ttl > 0 ? c.ttl : kPushTtl;  // a Foxglove client's push: its duration
     session_.send(w);
   }
 
@@ -366,6 +457,9 @@ class Viewer {
               : view::encode_state(state, generation, drift_.energy(), drift_.momentum())));
       if (wrenches_text) server_->broadcast_text(std::move(wrenches_text));
       lock.lock();
+      for (const Channel c : {Channel::kTransforms, Channel::kBodyStates, Channel::kState})
+        if (server_->foxglove_subscribed(c))
+          server_->broadcast_foxglove(c, foxglove_state(c, state));
     }
   }
 
@@ -380,6 +474,12 @@ class Viewer {
   std::uint64_t generation_ = 0;
   std::uint64_t seen_generation_ = 0;  // pump thread only
   view::Bytes scene_text_, stats_text_, wrenches_text_;
+  std::optional<StatsReport> stats_;
+  // Foxglove: the bodies' names by id (scene), and those of the newest state's bodies in order.
+  clients::BodyNames names_;
+  std::vector<std::int32_t> name_ids_;
+  std::vector<std::string> state_names_;
+  std::uint64_t names_generation_ = 0;
   std::deque<Job> jobs_;
   bool stopping_ = false;
   std::map<std::uint64_t, Clock::time_point> last_push_;  // server thread only

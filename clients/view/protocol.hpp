@@ -165,6 +165,7 @@ struct PageCommand {
   std::int32_t body = -1;  // kPush; kWatch (-1: none)
   rigid::Vec3 force{};     // kPush
   rigid::Vec3 point{};     // kPush
+  double ttl = 0;  // kPush from a Foxglove client: its duration (s); 0: the page's re-sent push
   // Playback. kSeek: exactly one of tick (>= 0) and time (finite); the other stays at its default.
   std::int64_t tick = -1;
   std::optional<double> time;

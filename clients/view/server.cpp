@@ -16,6 +16,9 @@
 #include <string_view>
 #include <utility>
 
+#include "foxglove_connection.hpp"
+#include "server_impl.hpp"
+
 namespace rigid::view {
 namespace {
 
@@ -27,11 +30,6 @@ using tcp = net::ip::tcp;
 using namespace std::chrono_literals;
 
 constexpr std::size_t kMaxHttpSessions = 64;
-
-struct File {
-  std::string type;
-  std::string body;
-};
 
 // The page's files: web_dir/kServedList names them, one path (relative to web_dir) a line, as the
 // build writes it from the one list of the page's files (clients/view/CMakeLists.txt); each is
@@ -125,27 +123,10 @@ std::string describe(const ServerCounts& c) {
          std::to_string(c.states_dropped) + ", refused: frames " +
          std::to_string(c.frames_refused) + ", commands " + std::to_string(c.commands_refused) +
          ", connections " + std::to_string(c.connections_refused) + ", http " +
-         std::to_string(c.http_refused);
+         std::to_string(c.http_refused) + "; foxglove clients " +
+         std::to_string(c.foxglove_clients) + ", messages sent " + std::to_string(c.foxglove_sent) +
+         ", dropped for slow clients " + std::to_string(c.foxglove_dropped);
 }
-
-class Page;
-
-class ViewServer::Impl {
- public:
-  ServerOptions options;
-  CommandHandler on_command;
-  Greeting greeting;
-  ServerCounts counts;
-  std::map<std::string, File, std::less<>> files;
-  net::io_context ioc{1};
-  tcp::acceptor acceptor{ioc};
-  std::thread thread;
-  std::set<std::shared_ptr<Page>> pages;  // server thread only
-  std::uint64_t next_page = 1;
-  std::shared_ptr<std::size_t> http_sessions = std::make_shared<std::size_t>(0);
-
-  void accept();
-};
 
 class Page : public std::enable_shared_from_this<Page> {
  public:
@@ -344,15 +325,17 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     std::string_view target(req.target().data(), req.target().size());
     if (const auto q = target.find('?'); q != std::string_view::npos) target = target.substr(0, q);
     if (websocket::is_upgrade(req)) {
-      if (target != "/ws") return refuse(http::status::not_found, "no WebSocket here: use /ws");
       const std::string_view origin(req[http::field::origin].data(),
                                     req[http::field::origin].size());
       const std::string_view host(req[http::field::host].data(), req[http::field::host].size());
-      if (!origin.empty() && origin != "http://" + std::string(host)) {
+      const bool same_origin = origin.empty() || origin == "http://" + std::string(host);
+      if (offers_foxglove(req)) return foxglove(std::move(req), target, origin, same_origin);
+      if (target != "/ws") return refuse(http::status::not_found, "no WebSocket here: use /ws");
+      if (!same_origin) {
         ++impl_.counts.connections_refused;
         return refuse(http::status::forbidden, "a page from another origin may not connect");
       }
-      if (impl_.pages.size() >= impl_.options.max_pages) {
+      if (impl_.connections() >= impl_.options.max_pages) {
         ++impl_.counts.connections_refused;
         return refuse(http::status::service_unavailable, "too many pages connected");
       }
@@ -366,6 +349,54 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const auto it = impl_.files.find(target);
     if (it == impl_.files.end()) return refuse(http::status::not_found, "not found");
     respond(http::status::ok, it->second.type, it->second.body, req.method() == http::verb::head);
+  }
+
+  // Whether the client asks for the Foxglove WebSocket protocol (Sec-WebSocket-Protocol: a list
+  // of tokens separated by commas).
+  static bool offers_foxglove(const http::request<http::string_body>& req) {
+    std::string_view offered(req[http::field::sec_websocket_protocol].data(),
+                             req[http::field::sec_websocket_protocol].size());
+    while (!offered.empty()) {
+      const std::size_t comma = std::min(offered.find(','), offered.size());
+      std::string_view token = offered.substr(0, comma);
+      while (!token.empty() && (token.front() == ' ' || token.front() == '\t'))
+        token.remove_prefix(1);
+      while (!token.empty() && (token.back() == ' ' || token.back() == '\t'))
+        token.remove_suffix(1);
+      if (token == foxglove::kSubprotocol) return true;
+      offered.remove_prefix(std::min(comma + 1, offered.size()));
+    }
+    return false;
+  }
+
+  // A Foxglove client (docs/foxglove.md): at / or /ws, from no origin, the page's, or one that
+  // --foxglove-origin names; counted with the pages against their limit.
+  void foxglove(http::request<http::string_body> req, std::string_view target,
+                std::string_view origin, bool same_origin) {
+    if (target != "/" && target != "/ws")
+      return refuse(http::status::not_found, "no Foxglove WebSocket here: use / or /ws");
+    if (impl_.options.playback || !impl_.foxglove_latest) {
+      ++impl_.counts.connections_refused;
+      return refuse(http::status::not_implemented,
+                    "rigid-view FILE serves its page only: open rigid-record export --mcap's file "
+                    "in Foxglove instead");
+    }
+    const auto& allowed = impl_.options.foxglove_origins;
+    if (!same_origin && std::find(allowed.begin(), allowed.end(), origin) == allowed.end()) {
+      ++impl_.counts.connections_refused;
+      return refuse(http::status::forbidden,
+                    "a Foxglove client from origin '" + std::string(origin.substr(0, 200)) +
+                        "' may not connect (rigid-view --foxglove-origin '" +
+                        std::string(origin.substr(0, 200)) + "' admits it)");
+    }
+    if (impl_.connections() >= impl_.options.max_pages) {
+      ++impl_.counts.connections_refused;
+      return refuse(http::status::service_unavailable, "too many pages connected");
+    }
+    auto client =
+        std::make_shared<FoxgloveConnection>(impl_, stream_.release_socket(), impl_.next_page++);
+    impl_.foxglove_clients.insert(client);
+    client->accept(std::move(req));
   }
 
   void refuse(http::status status, std::string_view why) {
@@ -416,11 +447,16 @@ void ViewServer::Impl::accept() {
   });
 }
 
-ViewServer::ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting)
+ViewServer::ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting,
+                       FoxgloveLatest foxglove_latest)
     : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->on_command = std::move(on_command);
   impl_->greeting = std::move(greeting);
+  impl_->foxglove_latest = std::move(foxglove_latest);
+  // Foxglove's serverInfo sessionId: tells a client whether it reconnected to the same server.
+  impl_->session_id = std::to_string(std::chrono::system_clock::now().time_since_epoch() /
+                                     std::chrono::nanoseconds(1));
   impl_->files = read_page(options.web_dir);
   beast::error_code ec;
   const auto address = net::ip::make_address(options.host, ec);
@@ -457,6 +493,9 @@ void ViewServer::stop() {
     for (const auto& page : impl->pages)
       page->close();
     impl->pages.clear();
+    for (const auto& client : impl->foxglove_clients)
+      client->close();
+    impl->foxglove_clients.clear();
     impl->ioc.stop();
   });
   impl_->thread.join();
@@ -473,6 +512,23 @@ void ViewServer::broadcast_text(Bytes text) {
   net::post(impl_->ioc, [impl = impl_.get(), text = std::move(text)] {
     for (const auto& page : impl->pages)
       page->send_text(text);
+  });
+}
+
+bool ViewServer::foxglove_subscribed(foxglove::Channel channel) const {
+  return impl_->subscribers[foxglove::index_of(channel)].load(std::memory_order_relaxed) > 0;
+}
+
+void ViewServer::broadcast_foxglove(foxglove::Channel channel, FoxgloveMessage message) {
+  net::post(impl_->ioc, [impl = impl_.get(), channel, message = std::move(message)] {
+    for (const auto& client : impl->foxglove_clients)
+      client->send(channel, message);
+  });
+}
+
+void ViewServer::set_body_ids(std::map<std::string, std::int32_t, std::less<>> ids) {
+  net::post(impl_->ioc, [impl = impl_.get(), ids = std::move(ids)]() mutable {
+    impl->body_ids = std::move(ids);
   });
 }
 

@@ -22,6 +22,7 @@
 #include <utility>  // before Asio: Boost 1.74's asio/awaitable.hpp needs std::exchange
 #include <vector>
 
+#include "foxglove_protocol.hpp"
 #include "protocol.hpp"
 
 namespace rigid::view {
@@ -37,6 +38,11 @@ struct ServerCounts {
   std::atomic<std::int64_t> states_sent{0};
   std::atomic<std::int64_t> states_dropped{0};  // replaced in a slow page's slot
   std::atomic<std::int64_t> texts_dropped{0};
+  // Foxglove clients (foxglove_connection.hpp): connected, messages written, and messages
+  // replaced in a slow client's newest-only slot of their channel.
+  std::atomic<std::int64_t> foxglove_clients{0};
+  std::atomic<std::int64_t> foxglove_sent{0};
+  std::atomic<std::int64_t> foxglove_dropped{0};
 };
 
 // rigid-view's closing line: "stopped; pages N, states sent N, ..." (without the program name).
@@ -49,6 +55,15 @@ struct ServerOptions {
   std::filesystem::path web_dir;
   std::size_t max_pages = 16;
   bool playback = false;  // rigid-view FILE: hello says so; commands are checked for the mode
+  // Origins (exact, e.g. https://app.foxglove.dev) whose Foxglove clients may connect besides
+  // those that send no Origin or the page's own (docs/foxglove.md).
+  std::vector<std::string> foxglove_origins;
+};
+
+// A message of a Foxglove channel: its protobuf bytes and its time (ns since the epoch).
+struct FoxgloveMessage {
+  Bytes payload;
+  std::uint64_t time_ns = 0;
 };
 
 class ViewServer {
@@ -72,9 +87,13 @@ class ViewServer {
                                             std::function<void(Bytes)> reply)>;
   // What a newly connected page gets first (scene, last stats), on the server thread.
   using Greeting = std::function<std::vector<Bytes>()>;
+  // The newest message of a Foxglove channel, for a client that subscribes to it (payload null:
+  // none yet), on the server thread. Without it rigid-view serves no Foxglove client.
+  using FoxgloveLatest = std::function<FoxgloveMessage(foxglove::Channel)>;
 
   // Loads the page's files and binds. Throws std::runtime_error (one line) on failure.
-  ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting);
+  ViewServer(const ServerOptions& options, CommandHandler on_command, Greeting greeting,
+             FoxgloveLatest foxglove_latest = {});
   ~ViewServer();
   ViewServer(const ViewServer&) = delete;
   ViewServer& operator=(const ViewServer&) = delete;
@@ -85,6 +104,11 @@ class ViewServer {
   // Any thread.
   void broadcast_state(Bytes frame);
   void broadcast_text(Bytes text);
+  // Foxglove: whether any client subscribes to the channel (its messages are made only then),
+  // a message to its subscribers, and the bodies a client's push may name (any thread).
+  bool foxglove_subscribed(foxglove::Channel channel) const;
+  void broadcast_foxglove(foxglove::Channel channel, FoxgloveMessage message);
+  void set_body_ids(std::map<std::string, std::int32_t, std::less<>> ids);
   const ServerCounts& counts() const;
 
   class Impl;

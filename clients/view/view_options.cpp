@@ -37,6 +37,24 @@ void parse_listen(std::string_view text, ViewOptions& o) {
   o.port = static_cast<std::uint16_t>(value);
 }
 
+// A WebSocket Origin header's value as browsers send it: "null", or scheme://host[:port] in
+// printable ASCII without spaces, commas or a path.
+void parse_origin(std::string_view text, ViewOptions& o) {
+  const auto scheme = text.find("://");
+  bool plain = !text.empty() && text.size() <= 200;
+  for (const char c : text)
+    plain = plain && c > ' ' && c < 0x7f && c != ',' && c != '\'' && c != '"';
+  const bool origin = text == "null" || (plain && scheme != std::string_view::npos && scheme > 0 &&
+                                         text.find('/', scheme + 3) == std::string_view::npos);
+  if (!plain || !origin) {
+    throw UsageError(
+        "--foxglove-origin: expected an origin such as https://app.foxglove.dev "
+        "(scheme://host[:port], or null), got " +
+        quoted(text));
+  }
+  o.foxglove_origins.emplace_back(text);
+}
+
 }  // namespace
 
 ViewOptions parse_options(std::span<const std::string_view> args) {
@@ -58,6 +76,8 @@ ViewOptions parse_options(std::span<const std::string_view> args) {
                          " (MiB), got " + quoted(arg->value));
       }
       max_memory_given = true;
+    } else if (arg->name == "--foxglove-origin") {
+      parse_origin(arg->value, o);
     } else if (arg->name == "--web-dir") {
       if (arg->value.empty()) throw UsageError("--web-dir: expected a directory, got ''");
       o.web_dir = std::string(arg->value);
@@ -80,6 +100,11 @@ ViewOptions parse_options(std::span<const std::string_view> args) {
     throw UsageError(bus_option + ": rigid-view FILE plays a recording and joins no bus (only " +
                      "--prefix applies: it picks an lcm-logger log's channels)");
   }
+  if (!o.file.empty() && !o.foxglove_origins.empty()) {
+    throw UsageError(
+        "--foxglove-origin: rigid-view FILE serves no Foxglove client (open "
+        "rigid-record export --mcap's file in Foxglove)");
+  }
   if (o.file.empty() && max_memory_given)
     throw UsageError("--max-memory: only with FILE (it bounds a recording's states in memory)");
   return o;
@@ -94,7 +119,9 @@ std::string usage() {
 Shows a running rigidd in a web browser: serves one page and a WebSocket on ADDR:PORT and prints
 its URL. The page draws the scene's bodies as they move, rigidd's Stats, and buttons for pause,
 resume, step N and reset (each shows rigidd's answer); drag a body with the left button held to
-push it. Keeps running when rigidd restarts.
+push it. Keeps running when rigidd restarts. Foxglove and Lichtblick connect on the same port
+(ws://ADDR:PORT/): the bodies in their 3D panel, the states in their Plot panel, pushes published
+on /rigid/push.
 
 With FILE, plays a recording instead of the bus: a rigid-record recording, an lcm-logger log of
 rigidd's channels (--prefix P picks P's channels when the log holds several) or a journal of
@@ -110,6 +137,11 @@ A file cut short plays up to its damaged tail.
                       authentication: a warning is printed
   --read-only         refuse every command from the page (it only watches)
   --web-dir DIR       the page's files (default: web/ next to the executable)
+  --foxglove-origin ORIGIN
+                      Foxglove and Lichtblick connect live at ws://ADDR:PORT/ (the WebSocket
+                      subprotocol foxglove.websocket.v1; docs/foxglove.md) from no origin or the
+                      page's; this admits the clients of another origin too (repeatable, exact:
+                      e.g. https://app.foxglove.dev)
   --max-memory MIB    FILE: the most memory its states may take (default 512)
 )") + std::string(clients::bus_options_help());
 }

@@ -1,12 +1,13 @@
 // rigid-view's command line: the bus options (as rigidctl takes them), --listen, --read-only,
-// --web-dir, and FILE: a recording to play instead of the bus (only --prefix of the bus options
-// applies then: it picks an lcm-logger log's channels).
+// --web-dir, --foxglove-origin, and FILE: a recording to play instead of the bus (only --prefix of
+// the bus options applies then: it picks an lcm-logger log's channels).
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli/cli.hpp"
 
@@ -21,6 +22,8 @@ struct ViewOptions {
   std::string file;     // rigid-view FILE: play this recording; empty: live from the bus
   bool prefix_given = false;
   std::int64_t max_memory_mib = 512;  // FILE: the most its states may take in memory
+  // --foxglove-origin (repeatable): more origins whose Foxglove clients may connect.
+  std::vector<std::string> foxglove_origins;
   bool help = false;
 };
 
