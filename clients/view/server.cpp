@@ -10,6 +10,7 @@
 #include <deque>
 #include <fstream>
 #include <future>
+#include <iostream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -384,6 +385,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const auto& allowed = impl_.options.foxglove_origins;
     if (!same_origin && std::find(allowed.begin(), allowed.end(), origin) == allowed.end()) {
       ++impl_.counts.connections_refused;
+      // Said once per origin (the first few): the value --foxglove-origin needs to admit an app.
+      std::string shown(origin.substr(0, 200));
+      for (char& ch : shown)
+        if (ch < ' ' || ch > '~') ch = '?';
+      if (impl_.refused_origins.size() < 8 && impl_.refused_origins.insert(shown).second) {
+        std::cerr << "rigid-view: refused a Foxglove client from origin '" << shown
+                  << "' (rigid-view --foxglove-origin '" << shown << "' admits it)\n";
+      }
       return refuse(http::status::forbidden,
                     "a Foxglove client from origin '" + std::string(origin.substr(0, 200)) +
                         "' may not connect (rigid-view --foxglove-origin '" +

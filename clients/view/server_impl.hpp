@@ -44,6 +44,7 @@ class ViewServer::Impl {
   std::array<std::atomic<int>, foxglove::kChannelCount> subscribers{};
   std::map<std::string, std::int32_t, std::less<>> body_ids;  // by name, for Foxglove pushes
   std::string session_id;                                     // Foxglove's serverInfo
+  std::set<std::string> refused_origins;  // Foxglove origins refused and printed (at most 8)
 
   // Pages and Foxglove clients together, against options.max_pages.
   std::size_t connections() const { return pages.size() + foxglove_clients.size(); }

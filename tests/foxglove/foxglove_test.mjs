@@ -227,6 +227,7 @@ async function main() {
 
   // Origins: another is refused (403), the named one admitted; the page's own admitted.
   check((await handshake(roUrl, { origin: 'https://elsewhere.example' })).status === 403, 'a foreign origin was not refused');
+  await until('the refused origin named on stderr', () => /refused a Foxglove client from origin 'https:\/\/elsewhere\.example' \(rigid-view --foxglove-origin/.test(ro.err), 5000);
   const admitted = await handshake(roUrl, { origin: 'https://app.example' });
   check(admitted.status === 101, `--foxglove-origin's origin: ${admitted.status}`);
   admitted.ws.close();
