@@ -176,6 +176,7 @@ async function main() {
   late.client.close();
   await rigidctlRun(['resume']);
   await until('stats', () => c.count('/rigid/stats') > 0, 5000);
+  check(typeof c.latest('/rigid/stats').message.lateness_p99_us === 'number' && c.latest('/rigid/stats').message.tick > 0, `stats ${JSON.stringify(c.latest('/rigid/stats').message).slice(0, 200)}`);
 
   // Unsubscribe: /rigid/state stops while the others go on.
   const stateSub = [...c.subs].find(([, topic]) => topic === '/rigid/state')[0];
