@@ -262,7 +262,7 @@ std::variant<PushRequest, std::string> parse_push(std::string_view json) {
   if (j.kind != Json::Kind::kObject) return where + "expected a JSON object";
   PushRequest p;
   bool have_body = false, have_force = false, have_duration = false;
-  for (const auto& [key, v] : j.fields) {
+  for (const auto& [key, v] : j.fields) {  // (JsonField: key, value)
     if (key == "body") {
       if (v.kind == Json::Kind::kString && !v.text.empty() && v.text.size() <= 256) {
         p.body_name = v.text;

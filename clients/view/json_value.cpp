@@ -83,8 +83,8 @@ class Parser {
       ws();
       if (!eat(':')) return fail("expected ':'");
       ws();
-      out.fields.emplace_back(std::move(key), Json{});
-      if (!value(out.fields.back().second, depth)) return false;
+      out.fields.push_back(JsonField{std::move(key), Json{}});
+      if (!value(out.fields.back().value, depth)) return false;
       ws();
       if (eat('}')) return true;
       if (!eat(',')) return fail("expected ',' or '}'");
@@ -236,8 +236,8 @@ class Parser {
 }  // namespace
 
 const Json* Json::get(std::string_view key) const {
-  for (const auto& [k, v] : fields)
-    if (k == key) return &v;
+  for (const JsonField& f : fields)
+    if (f.key == key) return &f.value;
   return nullptr;
 }
 

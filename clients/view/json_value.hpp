@@ -7,7 +7,6 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
-#include <utility>
 #include <variant>
 #include <vector>
 
@@ -16,17 +15,24 @@ namespace rigid::view {
 inline constexpr std::size_t kMaxJsonDepth = 8;
 inline constexpr std::size_t kMaxJsonValues = 4096;
 
+struct JsonField;
+
 struct Json {
   enum class Kind { kNull, kBool, kNumber, kString, kArray, kObject };
   Kind kind = Kind::kNull;
   bool boolean = false;
   double number = 0;
-  std::string text;                                  // kString, as UTF-8
-  std::vector<Json> items;                           // kArray
-  std::vector<std::pair<std::string, Json>> fields;  // kObject, in the text's order
+  std::string text;               // kString, as UTF-8
+  std::vector<Json> items;        // kArray
+  std::vector<JsonField> fields;  // kObject, in the text's order
 
   // The member named `key` of an object (the first, if named twice), else nullptr.
   const Json* get(std::string_view key) const;
+};
+
+struct JsonField {
+  std::string key;
+  Json value;
 };
 
 // The value of `text` (one JSON value, whitespace around it allowed), or one line saying where
