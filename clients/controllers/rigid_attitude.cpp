@@ -14,6 +14,7 @@
 
 #include "attitude_control.hpp"
 #include "attitude_options.hpp"
+#include "cli/dds_log.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "util/signal_watcher.hpp"
@@ -100,13 +101,23 @@ void print_holding(const controllers::AttitudeOptions& o, const Target& t) {
 }
 
 int run(const controllers::AttitudeOptions& o, util::SignalWatcher& signals) {
-  client::Session session(o.bus);
-  std::uint64_t generation = session.scene_generation();
+  const clients::DdsLog dds_log;  // before the bus: Cyclone's lines are told in our words
+  std::optional<client::Session> joined;
+  try {
+    joined.emplace(o.bus);
+  } catch (const client::BusError& e) {
+    std::cerr << "rigid-attitude: " << clients::bus_error_line(e.what(), o.bus, dds_log) << '\n';
+    return clients::kExitFailed;
+  }
+  client::Session& session = *joined;
   const auto scene = session.wait_scene(o.timeout);
+  // After the wait: the scene it brought is the one resolved below, not a change to act on (taken
+  // before, it made the loop resolve the same scene again and print its start line twice).
+  std::uint64_t generation = session.scene_generation();
   if (!scene) {
     std::cerr << "rigid-attitude: no SceneInfo from rigidd within "
               << static_cast<double>(o.timeout.count()) / 1000.0 << " s on "
-              << client::describe(o.bus) << '\n';
+              << client::describe(o.bus) << clients::no_rigidd_hint(o.bus, dds_log) << '\n';
     return clients::kExitTimeout;
   }
   std::string error;

@@ -39,7 +39,8 @@ bool takes(Command c, std::string_view option) {
     case Command::kStats:
       return option == "--once" || option == "--count";
     case Command::kPush:
-      return option == "--force" || option == "--at" || option == "--frame" || option == "--for";
+      return option == "--force" || option == "--torque" || option == "--at" ||
+             option == "--frame" || option == "--for";
     default:
       return false;
   }
@@ -58,7 +59,7 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
   clients::ArgReader reader(args, kFlags);
   std::optional<Command> command;
   std::vector<std::string_view> positional;
-  bool have_force = false;
+  bool have_force = false, have_torque = false;
   std::vector<std::pair<std::string_view, std::string_view>> options;
   while (const auto arg = reader.next()) {
     if (arg->name == "--help" || arg->name == "-h") {
@@ -106,6 +107,9 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
     } else if (name == "--force") {
       o.force = clients::parse_vec3(name, value);
       have_force = true;
+    } else if (name == "--torque") {
+      o.torque = clients::parse_vec3(name, value);
+      have_torque = true;
     } else if (name == "--at") {
       o.point = clients::parse_vec3(name, value);
     } else if (name == "--frame") {
@@ -149,7 +153,9 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
     case Command::kPush:
       expect_positional(1, "the body (a name or an id)");
       o.body = std::string(positional[0]);
-      if (!have_force) throw UsageError("push: missing --force fx,fy,fz");
+      if (!have_force && !have_torque) {
+        throw UsageError("push: missing --force fx,fy,fz or --torque tx,ty,tz");
+      }
       break;
     default:
       expect_positional(0, "");
@@ -178,11 +184,12 @@ Commands:
   step N                  N ticks, then stay paused (the loop must be paused)
   reset                   back to the scene's initial state at tick 0, wrenches cleared
   rate X                  real-time factor X (realtime mode), 0 < X <= 1000
-  push BODY --force FX,FY,FZ [--at PX,PY,PZ] [--frame body|world] [--for S]
-                          a force on BODY (name or id) at a point from its centre of mass, in
-                          the body frame (default: the centre of mass); the force is in the world
-                          frame unless --frame body; it acts for S seconds (default 0: one tick)
-                          and rigidctl waits until rigidd has accepted it
+  push BODY [--force FX,FY,FZ] [--at PX,PY,PZ] [--torque TX,TY,TZ] [--frame body|world]
+       [--for S]          a force on BODY (name or id) at a point from its centre of mass, in
+                          the body frame (default: the centre of mass), and/or a torque; both
+                          are in the world frame unless --frame body. It acts for S seconds of
+                          sim time (default 1 s, or the scene's max_ttl if less; 0: one tick);
+                          rigidctl waits until rigidd has accepted it and prints the impulse
 
 Options:
 )";
@@ -192,8 +199,10 @@ Options:
 
 Control commands (pause, resume, step, reset, rate) wait for rigidd's reply and print it; push
 waits for rigidd to accept the wrench (it says so on rigid/accepted).
-Exit status: 0 done, 1 rigidd refused the request (or a bus could not be set up), 2 a bad
-command line, 3 no answer from rigidd within the timeout.
+Exit status: 0 done; 1 refused: by rigidd, or by rigidctl before sending for what rigidd would
+refuse (a body the scene lacks, a force, torque or --for above the scene's limits), or a bus could
+not be set up; 2 a bad command line (what the command line alone shows); 3 no answer from rigidd
+within the timeout.
 )";
   return text;
 }

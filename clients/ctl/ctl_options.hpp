@@ -1,5 +1,6 @@
 // rigidctl's command line: a command and its arguments, the bus options, and their checks (every
-// error is one line naming the argument and its value; rigidctl then exits with status 2).
+// error is one line naming the argument and its value; rigidctl then exits with status 2). What
+// needs the running scene (a body's name, the scene's limits) is checked later, against it.
 #pragma once
 
 #include <chrono>
@@ -46,9 +47,10 @@ struct CtlOptions {
   // push
   std::string body;
   rigid::Vec3 force{};
+  rigid::Vec3 torque{};
   rigid::Vec3 point{};
-  rigid::Frame frame = rigid::Frame::kWorld;
-  double for_seconds = 0.0;  // ttl: 0 = one tick
+  rigid::Frame frame = rigid::Frame::kWorld;  // of the force and the torque
+  std::optional<double> for_seconds;  // ttl (0: one tick); unset: push_request.hpp's default
 };
 
 // Parses the arguments after the program name. Throws clients::UsageError.

@@ -11,7 +11,9 @@
 #include <ostream>
 #include <utility>
 
+#include "cli/dds_log.hpp"
 #include "cli/state_rows.hpp"
+#include "ctl/push_request.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "util/state_csv.hpp"
@@ -41,17 +43,17 @@ std::string shape_or_dash(rigid::ShapeKind k) {
   return buffer;
 }
 
-std::string no_answer(const CtlOptions& o, const std::string& what) {
+std::string no_answer(const CtlOptions& o, const clients::DdsLog& log, const std::string& what) {
   return "rigidctl: no " + what + " from rigidd within " +
          fmt("%.3g", static_cast<double>(o.timeout.count()) / 1000.0) + " s on " +
-         client::describe(o.bus) +
-         " (is rigidd running, with the same --transport, --prefix and --dds-domain?)";
+         client::describe(o.bus) + clients::no_rigidd_hint(o.bus, log);
 }
 
-int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostream& err) {
+int bodies(const CtlOptions& o, Session& session, const clients::DdsLog& log, std::ostream& out,
+           std::ostream& err) {
   const auto scene = session.wait_scene(o.timeout);
   if (!scene) {
-    err << no_answer(o, "SceneInfo") << '\n';
+    err << no_answer(o, log, "SceneInfo") << '\n';
     return kExitTimeout;
   }
   const rigid::SceneDescription& s = *scene;
@@ -73,7 +75,8 @@ int bodies(const CtlOptions& o, Session& session, std::ostream& out, std::ostrea
   return kExitOk;
 }
 
-int control(const CtlOptions& o, Session& session, std::ostream& out, std::ostream& err) {
+int control(const CtlOptions& o, Session& session, const clients::DdsLog& log, std::ostream& out,
+            std::ostream& err) {
   rigid::ControlCommand c;
   switch (o.command) {
     case Command::kPause:
@@ -96,7 +99,7 @@ int control(const CtlOptions& o, Session& session, std::ostream& out, std::ostre
   }
   const auto reply = session.request(c, o.timeout);
   if (!reply) {
-    err << no_answer(o, "reply to " + std::string(client::control_name(c.command))) << '\n';
+    err << no_answer(o, log, "reply to " + std::string(client::control_name(c.command))) << '\n';
     return kExitTimeout;
   }
   if (reply->outcome != rigid::Outcome::kOk) {
@@ -108,39 +111,27 @@ int control(const CtlOptions& o, Session& session, std::ostream& out, std::ostre
   return kExitOk;
 }
 
-int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream& err) {
+int push(const CtlOptions& o, Session& session, const clients::DdsLog& log, std::ostream& out,
+         std::ostream& err) {
   const auto scene = session.wait_scene(o.timeout);
   if (!scene) {
-    err << no_answer(o, "SceneInfo") << '\n';
+    err << no_answer(o, log, "SceneInfo") << '\n';
     return kExitTimeout;
   }
+  // What rigidd would refuse is refused here, before sending, with its exit status (1).
   const auto body = client::find_body(*scene, o.body);
   if (!body) {
-    err << "rigidctl: push: no body " << clients::quoted(o.body)
+    err << "rigidctl: push: refused: no body " << clients::quoted(o.body)
         << " in the scene (bodies: " << client::body_list(*scene) << ")\n";
-    return clients::kExitUsage;
-  }
-  const double f = std::hypot(o.force[0], o.force[1], o.force[2]);
-  if (scene->max_force > 0 && f > scene->max_force) {
-    err << "rigidctl: push: --force: |f| = " << f << " N is above the scene's limit of "
-        << scene->max_force << " N\n";
-    return clients::kExitUsage;
-  }
-  // rigidd would refuse it: say so at once, with the same reason (exit 1, like its refusal).
-  if (scene->max_ttl > 0 && o.for_seconds > scene->max_ttl) {
-    err << "rigidctl: push: refused: --for " << o.for_seconds
-        << " s is above the scene's max_ttl of " << scene->max_ttl << " s\n";
     return kExitFailed;
   }
-  rigid::WrenchCommand w;
-  w.body_id = *body;
-  w.body_name = scene->names[static_cast<std::size_t>(*body)];
-  w.force = o.force;
-  w.point = o.point;
-  w.force_frame = o.frame;
-  w.ttl = o.for_seconds;
+  const PushRequest request = make_push(o, *scene, *body);
+  if (!request.refusal.empty()) {
+    err << "rigidctl: push: refused: " << request.refusal << '\n';
+    return kExitFailed;
+  }
   std::string refused;
-  const auto accepted = session.push(w, o.timeout, &refused);
+  const auto accepted = session.push(request.wrench, o.timeout, &refused);
   if (!accepted && !refused.empty()) {
     err << "rigidctl: push: refused by rigidd: " << refused << '\n';
     return kExitFailed;
@@ -152,8 +143,8 @@ int push(const CtlOptions& o, Session& session, std::ostream& out, std::ostream&
         << ": it refused it (rigidd's log and 'rigidctl stats' say why) or is not running\n";
     return kExitTimeout;
   }
-  out << "push: accepted at tick " << accepted->tick << " on " << o.body << " (id " << *body << ")"
-      << (o.for_seconds > 0 ? fmt(" for %g s", o.for_seconds) : " for one tick") << '\n';
+  out << "push: accepted at tick " << accepted->tick << " on " << o.body << " (id " << *body << ") "
+      << push_summary(request, o, *scene) << '\n';
   return kExitOk;
 }
 
@@ -240,15 +231,15 @@ bool select_bodies(const CtlOptions& o, const rigid::SceneDescription& scene,
   return true;
 }
 
-int echo(const CtlOptions& o, Session& session, util::SignalWatcher& signals, std::ostream& out,
-         std::ostream& err) {
+int echo(const CtlOptions& o, Session& session, const clients::DdsLog& log,
+         util::SignalWatcher& signals, std::ostream& out, std::ostream& err) {
   StateQueue queue;
   const HandlerScope handlers(session);
   session.on_each_state([&](const rigid::StateFrame& s) { queue.push(s); });
   std::uint64_t generation = session.scene_generation();
   auto scene = session.wait_scene(o.timeout);
   if (!scene) {
-    err << no_answer(o, "SceneInfo") << '\n';
+    err << no_answer(o, log, "SceneInfo") << '\n';
     return kExitTimeout;
   }
   std::vector<bool> only;
@@ -276,7 +267,7 @@ int echo(const CtlOptions& o, Session& session, util::SignalWatcher& signals, st
     const auto now = std::chrono::steady_clock::now();
     if (states.empty()) {
       if (now - last_state > o.timeout) {
-        err << no_answer(o, "state") << '\n';
+        err << no_answer(o, log, "state") << '\n';
         return kExitTimeout;
       }
       continue;
@@ -341,8 +332,8 @@ void print_stats(const rigid::StatsReport& s, std::ostream& out) {
   out.flush();
 }
 
-int stats(const CtlOptions& o, Session& session, util::SignalWatcher& signals, std::ostream& out,
-          std::ostream& err) {
+int stats(const CtlOptions& o, Session& session, const clients::DdsLog& log,
+          util::SignalWatcher& signals, std::ostream& out, std::ostream& err) {
   std::mutex mutex;
   std::condition_variable changed;
   std::deque<rigid::StatsReport> reports;
@@ -368,7 +359,7 @@ int stats(const CtlOptions& o, Session& session, util::SignalWatcher& signals, s
     const auto now = std::chrono::steady_clock::now();
     if (got.empty()) {
       if (now - last > patience) {
-        err << no_answer(o, "Stats") << '\n';
+        err << no_answer(o, log, "Stats") << '\n';
         return kExitTimeout;
       }
       continue;
@@ -386,28 +377,29 @@ int stats(const CtlOptions& o, Session& session, util::SignalWatcher& signals, s
 }  // namespace
 
 int run(const CtlOptions& o, util::SignalWatcher& signals, std::ostream& out, std::ostream& err) {
+  const clients::DdsLog log;  // before the bus: Cyclone's lines are told in rigidctl's words
   std::unique_ptr<Session> session;
   try {
     session = std::make_unique<Session>(o.bus);
   } catch (const client::BusError& e) {
-    err << "rigidctl: " << e.what() << '\n';
+    err << "rigidctl: " << clients::bus_error_line(e.what(), o.bus, log) << '\n';
     return kExitFailed;
   }
   switch (o.command) {
     case Command::kBodies:
-      return bodies(o, *session, out, err);
+      return bodies(o, *session, log, out, err);
     case Command::kEcho:
-      return echo(o, *session, signals, out, err);
+      return echo(o, *session, log, signals, out, err);
     case Command::kStats:
-      return stats(o, *session, signals, out, err);
+      return stats(o, *session, log, signals, out, err);
     case Command::kPush:
-      return push(o, *session, out, err);
+      return push(o, *session, log, out, err);
     case Command::kPause:
     case Command::kResume:
     case Command::kStep:
     case Command::kReset:
     case Command::kRate:
-      return control(o, *session, out, err);
+      return control(o, *session, log, out, err);
   }
   return kExitFailed;
 }

@@ -61,6 +61,9 @@ Exported from_rigid_log(const RecordOptions& o) {
   rigid::StateFrame frame;
   rigid::SceneDescription scene;
   while (reader.next(r)) {
+    if (r.has_header() && r.header().kind() == msgs::LogHeader::JOURNAL) {
+      throw common::LogFileError(journal_has_no_states(o.file));
+    }
     if (r.has_header() && common::from_record(r.header().scene(), scene)) {
       names = clients::BodyNames(scene);
     } else if (r.has_scene() && common::from_record(r.scene(), scene)) {
@@ -72,6 +75,10 @@ Exported from_rigid_log(const RecordOptions& o) {
       }
       csv.add(frame, names, e);
     }
+  }
+  if (e.states == 0) {
+    throw common::LogFileError(o.file + ": no states to export" +
+                               (reader.damage() ? " (" + damage_note(*reader.damage()) + ")" : ""));
   }
   if (reader.damage()) e.note = damage_note(*reader.damage());
   csv.commit();
@@ -134,6 +141,10 @@ Exported from_lcm_log(const RecordOptions& o, std::ostream& err) {
     e.note += (e.note.empty() ? "" : "; ") + std::to_string(undecodable) + " events on " +
               state_channel + " did not decode and were skipped";
   }
+  if (e.states == 0) {
+    throw common::LogFileError(o.file + ": no states on " + state_channel + " to export" +
+                               (e.note.empty() ? "" : " (" + e.note + ")"));
+  }
   csv.commit();
   return e;
 }
@@ -148,6 +159,13 @@ std::string lcm_log_prefix(const RecordOptions& o,
   } catch (const common::SeveralPrefixes& e) {
     throw clients::UsageError(e.what());
   }
+}
+
+std::string journal_has_no_states(const std::string& path) {
+  return path +
+         " is a journal (rigidd --journal): it holds accepted commands and state hashes, no "
+         "states; replay it with rigid-sim --replay --csv, or record states with rigid-record "
+         "record";
 }
 
 void refuse_existing(const std::string& path, bool force) {

@@ -13,7 +13,8 @@
 
 namespace rigid::record {
 
-// Returns the exit status (1: the input cannot be read or the CSV written).
+// Returns the exit status (1: the input cannot be read, is a journal or holds no states, or the
+// CSV cannot be written; nothing is written then).
 int export_csv(const RecordOptions& options, std::ostream& out, std::ostream& err);
 
 // The prefix of rigidd's channels in an LCM log whose channels (with their event counts) are
@@ -21,6 +22,9 @@ int export_csv(const RecordOptions& options, std::ostream& out, std::ostream& er
 // log holds. Throws clients::UsageError (several prefixes) or common::LogFileError (none).
 std::string lcm_log_prefix(const RecordOptions& options,
                            const std::map<std::string, std::int64_t>& seen);
+
+// Why a journal is refused by export (it holds no states): one line naming `path`.
+std::string journal_has_no_states(const std::string& path);
 
 // Throws common::LogFileError if `path` exists and not `force` (export's outputs, like record's,
 // are not overwritten unless asked).

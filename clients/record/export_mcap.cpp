@@ -13,6 +13,7 @@
 #include "foxglove/SceneUpdate.pb.h"
 #include "record/export_csv.hpp"
 #include "record/mcap_writer.hpp"
+#include "record/recorder.hpp"
 #include "rigid/client/names.hpp"
 #include "transport/lcm/lcm_codec.hpp"
 #include "transport/topic.hpp"
@@ -35,10 +36,11 @@ struct Summary {
 // Turns the records of a recording into MCAP messages on the channels above.
 class FoxgloveOut {
  public:
-  explicit FoxgloveOut(const std::string& path)
+  // `zstd_level` 0: chunks uncompressed.
+  FoxgloveOut(const std::string& path, int zstd_level)
       : file_(path),
         writer_([this](std::string_view bytes) { write_out(bytes); }, "",
-                common::software_version() + " rigid-record export --mcap") {
+                common::software_version() + " rigid-record export --mcap", 4u << 20, zstd_level) {
     const auto schema = [&](const google::protobuf::Descriptor* d) {
       return writer_.add_schema(d->full_name(), "protobuf", common::foxglove::descriptor_set(d));
     };
@@ -154,6 +156,11 @@ class FoxgloveOut {
   Summary summary_;
 };
 
+// MCAP chunks in zstd at rigid-record's level, unless --compress none.
+int zstd_level(const RecordOptions& o) {
+  return o.compress ? kZstdLevel : 0;
+}
+
 std::string damage_note(const common::Damage& d) {
   return "stopped at a damaged tail at offset " + std::to_string(d.offset) + " (" + d.reason +
          "), " + std::to_string(d.bytes) + " bytes not read";
@@ -169,18 +176,14 @@ Summary from_rigid_log(const RecordOptions& o) {
   while (reader.next(r)) {
     if (r.has_header()) {
       if (r.header().kind() == msgs::LogHeader::JOURNAL) {
-        throw common::LogFileError(
-            o.file +
-            " is a journal (rigidd --journal): it holds accepted commands and state hashes, no "
-            "states; replay it with rigid-sim --replay --csv, or record states with rigid-record "
-            "record");
+        throw common::LogFileError(journal_has_no_states(o.file));
       }
       start = as_time(r.header().start_unix_ns());
-      if (!out) out = std::make_unique<FoxgloveOut>(o.mcap);
+      if (!out) out = std::make_unique<FoxgloveOut>(o.mcap, zstd_level(o));
       if (r.header().scene().ids_size() > 0) out->scene(r.header().scene(), start);
       continue;
     }
-    if (!out) out = std::make_unique<FoxgloveOut>(o.mcap);
+    if (!out) out = std::make_unique<FoxgloveOut>(o.mcap, zstd_level(o));
     if (r.has_scene()) {
       out->scene(r.scene(), at(r.scene().recorded_ns()));
     } else if (r.has_state()) {
@@ -231,7 +234,7 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
     err << "rigid-record: export: no " << scene_channel << " in " << o.file
         << ": bodies are named by id and have no shapes\n";
   }
-  FoxgloveOut out(o.mcap);
+  FoxgloveOut out(o.mcap, zstd_level(o));
   common::LcmLogReader reader(o.file);
   common::LcmEvent event;
   std::int64_t first_us = -1;

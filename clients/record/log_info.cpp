@@ -28,6 +28,22 @@ std::string seconds(double s) {
   return buffer;
 }
 
+// A scene's body names for one line: all of them up to kShown, else the first few and the last
+// (a recording of 1000 bodies would otherwise print 1000 names on one line).
+std::string name_summary(const google::protobuf::RepeatedPtrField<std::string>& names) {
+  constexpr int kShown = 8;
+  std::string text;
+  const int n = names.size();
+  for (int i = 0; i < n; ++i) {
+    if (n > kShown && i == kShown - 2) {
+      text += ", ... " + std::to_string(n - kShown + 1) + " more ..., " + names[n - 1];
+      break;
+    }
+    text += (i == 0 ? "" : ", ") + names[i];
+  }
+  return text;
+}
+
 std::string damage_line(const common::Damage& d) {
   return "damaged tail at offset " + std::to_string(d.offset) + ": " + std::to_string(d.bytes) +
          " bytes not read (" + d.reason +
@@ -112,8 +128,21 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
           break;
       }
     }
-    out << path << ": rigid log (format " << common::kLogFormatVersion << "), " << reader.size()
-        << " bytes, " << reader.records() << " complete records\n";
+    out << path << ": rigid log (format " << reader.format()
+        << (reader.format() == common::kLogFormatChunked ? ", zstd chunks" : "") << "), "
+        << reader.size() << " bytes, " << reader.records() << " complete records";
+    if (reader.chunks() > 0) {
+      char ratio[160];
+      std::snprintf(ratio, sizeof ratio,
+                    " (%lld chunks: %.2f MB of records compressed to %.2f MB, ratio %.2f)",
+                    static_cast<long long>(reader.chunks()),
+                    static_cast<double>(reader.chunk_record_bytes()) / 1e6,
+                    static_cast<double>(reader.chunk_bytes()) / 1e6,
+                    static_cast<double>(reader.chunk_record_bytes()) /
+                        static_cast<double>(std::max<std::uint64_t>(1, reader.chunk_bytes())));
+      out << ratio;
+    }
+    out << '\n';
     if (!header) {
       out << "no header record: not written by rigid-record or rigidd\n";
     } else {
@@ -123,9 +152,7 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
           << h.software_version() << ", schema " << h.schema_version() << "), started "
           << utc(h.start_unix_ns()) << '\n';
       const msgs::SceneRecord& s = h.scene();
-      std::string names;
-      for (const std::string& n : s.names())
-        names += (names.empty() ? "" : ", ") + n;
+      const std::string names = name_summary(s.names());
       char rate[160];
       std::snprintf(rate, sizeof rate, "%g Hz, %d substep(s), a state every %d tick(s)",
                     h.rate_hz(), s.substeps(), s.publish_every());

@@ -1,5 +1,7 @@
 #include "record/mcap_writer.hpp"
 
+#include <zstd.h>
+
 #include <array>
 #include <bit>
 #include <cstring>
@@ -143,9 +145,22 @@ std::uint32_t crc32_combine(std::uint32_t crc_a, std::uint32_t crc_b, std::uint6
   return multiply_mod_p(shift, crc_a) ^ crc_b;
 }
 
+void McapWriter::FreeCctx::operator()(void* c) const {
+  ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(c));
+}
+
+McapWriter::~McapWriter() = default;
+
 McapWriter::McapWriter(Sink sink, std::string_view profile, std::string_view library,
-                       std::size_t chunk_bytes)
+                       std::size_t chunk_bytes, int zstd_level)
     : sink_(std::move(sink)), chunk_bytes_(chunk_bytes) {
+  if (zstd_level > 0) {
+    cctx_.reset(ZSTD_createCCtx());
+    if (!cctx_ || ZSTD_isError(ZSTD_CCtx_setParameter(static_cast<ZSTD_CCtx*>(cctx_.get()),
+                                                      ZSTD_c_compressionLevel, zstd_level))) {
+      throw std::runtime_error("MCAP: cannot set up zstd compression");
+    }
+  }
   std::string s(kMagic);
   const std::size_t at = begin_record(s, kHeader);
   put_string(s, profile);
@@ -250,20 +265,37 @@ void McapWriter::flush_chunk() {
   index.offset = offset_;
   index.uncompressed_size = chunk_.size();
 
-  // Chunk (op 0x06): start and end log_time, uncompressed size and CRC, compression "" (none),
-  // then the records as uint64 length-prefixed bytes. The records are handed over as they are.
+  // The records zstd-compressed (one zstd frame), unless that would not make them smaller.
+  if (cctx_) {
+    compressed_.resize(ZSTD_compressBound(chunk_.size()));
+    const std::size_t n = ZSTD_compress2(static_cast<ZSTD_CCtx*>(cctx_.get()), compressed_.data(),
+                                         compressed_.size(), chunk_.data(), chunk_.size());
+    index.zstd = !ZSTD_isError(n) && n < chunk_.size();
+    if (index.zstd) compressed_.resize(n);
+  }
+  const std::string_view records = index.zstd ? std::string_view(compressed_) : chunk_;
+  const std::string_view compression = index.zstd ? "zstd" : "";
+  index.compressed_size = records.size();
+
+  // Chunk (op 0x06): start and end log_time, uncompressed size and CRC (of the records before
+  // compression), compression ("zstd" or "" for none), then the records as uint64
+  // length-prefixed bytes.
   std::string head;
   put_u8(head, kChunk);
-  put_u64(head, 8 + 8 + 8 + 4 + 4 + 8 + chunk_.size());
+  put_u64(head, 8 + 8 + 8 + 4 + 4 + compression.size() + 8 + records.size());
   put_u64(head, index.start_time);
   put_u64(head, index.end_time);
   put_u64(head, chunk_.size());
   put_u32(head, records_crc);
-  put_string(head, "");
-  put_u64(head, chunk_.size());
+  put_string(head, compression);
+  put_u64(head, records.size());
   emit(head);
-  emit(chunk_, records_crc);
-  index.length = head.size() + chunk_.size();
+  if (index.zstd) {
+    emit(records);
+  } else {
+    emit(records, records_crc);
+  }
+  index.length = head.size() + records.size();
 
   // One Message Index (op 0x07) per channel in the chunk: (log_time, offset in the records).
   std::string indexes;
@@ -330,8 +362,8 @@ void McapWriter::finish() {
       put_u64(chunk_indexes, offset);
     }
     put_u64(chunk_indexes, c.index_length);
-    put_string(chunk_indexes, "");
-    put_u64(chunk_indexes, c.uncompressed_size);  // compressed_size: no compression
+    put_string(chunk_indexes, c.zstd ? "zstd" : "");
+    put_u64(chunk_indexes, c.compressed_size);
     put_u64(chunk_indexes, c.uncompressed_size);
     end_record(chunk_indexes, at);
   }

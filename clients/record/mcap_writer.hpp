@@ -9,7 +9,9 @@
 //   summary offsets:  one SummaryOffset per group
 //   Footer Magic
 //
-// Messages go into uncompressed chunks of about `chunk_bytes`, each followed by one MessageIndex
+// Messages go into chunks of about `chunk_bytes` (zstd-compressed unless told not to: MCAP's
+// "zstd" compression, which Foxglove, the mcap CLI and the MCAP libraries read; a chunk that would
+// not shrink is written uncompressed, compression ""), each followed by one MessageIndex
 // per channel it holds, and every chunk has a ChunkIndex in the summary: so a reader opens a large
 // file by reading its end (footer, summary offsets, chunk indexes) and seeks to the chunks it
 // needs, instead of scanning it. Schemas and channels are written in the data section before the
@@ -25,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -46,8 +49,10 @@ class McapWriter {
   using Metadata = std::vector<std::pair<std::string, std::string>>;
 
   // Writes the magic and the Header record (profile: "" for none; library: who wrote the file).
+  // `zstd_level` 0: chunks uncompressed.
   McapWriter(Sink sink, std::string_view profile, std::string_view library,
-             std::size_t chunk_bytes = 4u << 20);
+             std::size_t chunk_bytes = 4u << 20, int zstd_level = 3);
+  ~McapWriter();
   McapWriter(const McapWriter&) = delete;
   McapWriter& operator=(const McapWriter&) = delete;
 
@@ -74,7 +79,11 @@ class McapWriter {
   struct ChunkIndex {
     std::uint64_t start_time = 0, end_time = 0, offset = 0, length = 0;
     std::map<std::uint16_t, std::uint64_t> index_offsets;
-    std::uint64_t index_length = 0, uncompressed_size = 0;
+    std::uint64_t index_length = 0, uncompressed_size = 0, compressed_size = 0;
+    bool zstd = false;
+  };
+  struct FreeCctx {
+    void operator()(void* c) const;
   };
   void begin_message(std::uint16_t channel_id, std::uint64_t log_time);
   void end_message(std::size_t record_start);
@@ -85,6 +94,8 @@ class McapWriter {
 
   Sink sink_;
   std::size_t chunk_bytes_;
+  std::unique_ptr<void, FreeCctx> cctx_;  // null: no compression
+  std::string compressed_;
   std::uint64_t offset_ = 0;    // bytes handed to the sink
   std::uint32_t data_crc_ = 0;  // of every byte so far (the data section's, until DataEnd)
   std::string schemas_;         // the Schema records, for the data section and the summary

@@ -7,6 +7,7 @@
 #include <ostream>
 #include <thread>
 
+#include "cli/dds_log.hpp"
 #include "common/log_records.hpp"
 #include "common/record_file.hpp"
 #include "connect.hpp"
@@ -26,6 +27,7 @@ std::int64_t unix_ns() {
 }  // namespace
 
 int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
+  const clients::DdsLog dds_log;  // before the bus: Cyclone's lines are told in our words
   try {
     common::RecordReader reader(o.file);
     msgs::LogRecord r;
@@ -93,7 +95,7 @@ int play(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   } catch (const client::BusError& e) {
-    err << "rigid-record: " << e.what() << '\n';
+    err << "rigid-record: " << clients::bus_error_line(e.what(), o.bus, dds_log) << '\n';
     return clients::kExitFailed;
   }
 }

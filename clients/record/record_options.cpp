@@ -15,12 +15,12 @@ bool takes(Command c, std::string_view option, bool bus_option) {
   switch (c) {
     case Command::kRecord:
       return bus_option || option == "--duration" || option == "--force" || option == "-f" ||
-             option == "--timeout";
+             option == "--timeout" || option == "--every" || option == "--compress";
     case Command::kInfo:
       return false;
     case Command::kExport:
       return option == "--csv" || option == "--mcap" || option == "--prefix" ||
-             option == "--force" || option == "-f";
+             option == "--force" || option == "-f" || option == "--compress";
     case Command::kPlay:
       return bus_option || option == "--speed";
   }
@@ -75,6 +75,16 @@ RecordOptions parse_options(std::span<const std::string_view> args) {
       o.duration = clients::parse_positive(arg.name, arg.value, "a duration in seconds > 0");
     } else if (arg.name == "--force" || arg.name == "-f") {
       o.force = true;
+    } else if (arg.name == "--every") {
+      o.every = clients::parse_count(arg.name, arg.value);
+    } else if (arg.name == "--compress") {
+      if (arg.value == "zstd") {
+        o.compress = true;
+      } else if (arg.value == "none") {
+        o.compress = false;
+      } else {
+        throw UsageError("--compress: expected zstd or none, got " + quoted(arg.value));
+      }
     } else if (arg.name == "--timeout") {
       o.timeout = clients::parse_seconds(arg.name, arg.value);
     } else if (arg.name == "--csv") {
@@ -106,9 +116,11 @@ RecordOptions parse_options(std::span<const std::string_view> args) {
 
 std::string usage() {
   std::string text =
-      R"(Usage: rigid-record record OUT [--duration S] [--force] [--timeout S] [BUS OPTIONS]
+      R"(Usage: rigid-record record OUT [--duration S] [--every N] [--compress zstd|none] [--force]
+                          [--timeout S] [BUS OPTIONS]
        rigid-record info FILE
-       rigid-record export FILE [--csv OUT] [--mcap OUT] [--force] [--prefix P]
+       rigid-record export FILE [--csv OUT] [--mcap OUT] [--compress zstd|none] [--force]
+                           [--prefix P]
        rigid-record play FILE [--speed X] [BUS OPTIONS]
 
 Records what rigidd publishes on one bus, and reads recordings back.
@@ -118,13 +130,20 @@ Records what rigidd publishes on one bus, and reads recordings back.
                   --duration S has passed or SIGINT/SIGTERM. Written as it goes: a recorder
                   killed at any instant leaves OUT readable up to its last complete record.
                   An existing OUT is refused unless --force. A live line on stderr shows what
-                  has been written
+                  has been written. A full disk ends the recording with exit status 1 and OUT
+                  readable up to the last record that fitted
+    --every N     keep one state in N: those whose tick is a multiple of N times the scene's
+                  publish_every (the scene, Stats and commands are all kept)
+    --compress C  zstd (default): records in zstd-compressed chunks (log format 2); none:
+                  as they are (format 1, which readers older than format 2 read too)
   info FILE       what FILE holds: its header (scene, integrator, rate, versions), how many
                   records of each kind, the time span, and whether it ends cleanly or in a
                   damaged tail (reported, not an error). Journals (rigidd --journal) too
   export FILE     the states as CSV (rigid-sim's columns: t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,
     --csv OUT     wx,wy,wz; a row per body per state). FILE may also be an lcm-logger log of
                   rigidd's channels; --prefix P picks P_RIGID_STATE there
+    --mcap OUT    and/or an MCAP file for Foxglove, its chunks zstd-compressed (--compress
+                  none: uncompressed)
   play FILE       republish FILE's scene and states at the pace they were recorded (--speed X:
                   X times faster) on the bus, as rigidd would: run it without a rigidd on the
                   same bus and prefix

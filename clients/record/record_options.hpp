@@ -22,9 +22,11 @@ struct RecordOptions {
   std::chrono::milliseconds timeout{5000};  // record: for rigidd's SceneInfo
   std::optional<double> duration;           // record: seconds; unset: until SIGINT/SIGTERM
   bool force = false;                       // record, export: overwrite OUT
-  std::string csv;                          // export
-  std::string mcap;                         // export
-  double speed = 1.0;                       // play
+  std::int64_t every = 1;                   // record: keep the states of every Nth publication
+  bool compress = true;  // record: zstd chunks (format 2); export: zstd MCAP chunks
+  std::string csv;       // export
+  std::string mcap;      // export
+  double speed = 1.0;    // play
   bool help = false;
 };
 

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -14,8 +15,10 @@
 #include <ostream>
 #include <utility>
 
+#include "cli/dds_log.hpp"
 #include "common/log_records.hpp"
 #include "common/record_file.hpp"
+#include "record/decimation.hpp"
 #include "rigid/client/names.hpp"
 #include "rigid/client/session.hpp"
 #include "transport/lcm/lcm_transport.hpp"
@@ -86,6 +89,7 @@ class RecordQueue {
 
 struct Counts {
   std::int64_t states = 0, scenes = 0, stats = 0, commands = 0;
+  std::int64_t decimated = 0;  // states left out by --every
   void count(const msgs::LogRecord& r) {
     states += r.has_state();
     scenes += r.has_scene();
@@ -94,15 +98,21 @@ struct Counts {
   }
 };
 
-std::string live_line(const std::string& path, double seconds, const Counts& c, std::uint64_t bytes,
-                      std::int64_t dropped) {
-  char buffer[256];
+std::string live_line(const std::string& path, double seconds, const Counts& c,
+                      const common::RecordWriter& file, std::int64_t dropped) {
+  char buffer[512];
   std::snprintf(buffer, sizeof buffer,
                 "%s: %.1f s, %lld states, %lld commands, %lld stats, %lld scenes, %.2f MB",
                 path.c_str(), seconds, static_cast<long long>(c.states),
                 static_cast<long long>(c.commands), static_cast<long long>(c.stats),
-                static_cast<long long>(c.scenes), static_cast<double>(bytes) / 1e6);
+                static_cast<long long>(c.scenes), static_cast<double>(file.bytes()) / 1e6);
   std::string line = buffer;
+  if (file.record_bytes() + common::kLogPreambleBytes > file.bytes()) {
+    std::snprintf(buffer, sizeof buffer, " (%.2f MB of records)",
+                  static_cast<double>(file.record_bytes()) / 1e6);
+    line += buffer;
+  }
+  if (c.decimated > 0) line += ", " + std::to_string(c.decimated) + " states left out (--every)";
   if (dropped > 0) line += ", " + std::to_string(dropped) + " dropped (the disk is too slow)";
   return line;
 }
@@ -129,14 +139,23 @@ msgs::LogHeader header(const RecordOptions& o, const rigid::SceneDescription& sc
 }  // namespace
 
 int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& err) {
+  const clients::DdsLog dds_log;  // before the bus: Cyclone's lines are told in our words
   // The file first: a name that cannot be used fails at once, not after the wait for rigidd.
   std::optional<common::RecordWriter> file;
   try {
-    file.emplace(o.file, o.force);
+    common::Compression compression;
+    compression.zstd = o.compress;
+    compression.level = kZstdLevel;
+    file.emplace(o.file, o.force, compression);
+  } catch (const common::FileExistsError&) {
+    err << "rigid-record: " << o.file << " already exists (--force overwrites it)\n";
+    return clients::kExitFailed;
   } catch (const common::LogFileError& e) {
     err << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }
+  Decimation decimation(o.every);
+  std::atomic<std::int64_t> decimated{0};
   RecordQueue queue;
   std::optional<rigid::SceneDescription> last_scene;
   std::mutex scene_mutex;
@@ -144,12 +163,16 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
   try {
     session = std::make_unique<client::Session>(o.bus);
   } catch (const client::BusError& e) {
-    err << "rigid-record: " << e.what() << '\n';
+    err << "rigid-record: " << clients::bus_error_line(e.what(), o.bus, dds_log) << '\n';
     file.reset();
     std::filesystem::remove(o.file);
     return clients::kExitFailed;
   }
   session->on_each_state([&](const rigid::StateFrame& s) {
+    if (!decimation.keep(s.tick)) {
+      decimated.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
     queue.push(
         [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(s, t, *r.mutable_state()); });
   });
@@ -168,6 +191,7 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
       if (last_scene && *last_scene == s) return;
       last_scene = s;
     }
+    decimation.scene(s);
     queue.push(
         [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(s, t, *r.mutable_scene()); });
   });
@@ -176,8 +200,7 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
   if (!scene) {
     err << "rigid-record: no SceneInfo from rigidd within "
         << static_cast<double>(o.timeout.count()) / 1000.0 << " s on " << client::describe(o.bus)
-        << " (is rigidd running, with the same --transport, --prefix and --dds-domain?); " << o.file
-        << " not written\n";
+        << clients::no_rigidd_hint(o.bus, dds_log) << "; " << o.file << " not written\n";
     session.reset();
     file.reset();
     std::filesystem::remove(o.file);
@@ -186,7 +209,9 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
 
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   Counts counts;
+  decimation.scene(*scene);
   queue.start();
+  decimated.store(0, std::memory_order_relaxed);
   const auto start = Clock::now();
   auto next_line = start;
   const auto line_period = tty ? 500ms : 5000ms;
@@ -217,10 +242,11 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
         counts.count(r);
       }
       file->flush();
+      counts.decimated = decimated.load(std::memory_order_relaxed);
       if (done) break;
       if (Clock::now() >= next_line) {
         err << (tty ? "\r" : "") << "recording "
-            << live_line(o.file, elapsed(), counts, file->bytes(), queue.dropped())
+            << live_line(o.file, elapsed(), counts, *file, queue.dropped())
             << (tty ? "\x1b[K" : "\n");
         err.flush();
         next_line = Clock::now() + line_period;
@@ -232,12 +258,22 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
     end.mutable_end()->set_end_unix_ns(unix_ns());
     file->append(end);
     file->close();
+  } catch (const common::DiskFullError& e) {
+    // What went out whole stays: the writer cut the file back to its last complete frame.
+    const double seconds = recorded_for > 0 ? recorded_for : elapsed();
+    session.reset();
+    char when[64];
+    std::snprintf(when, sizeof when, "%.1f s", seconds);
+    err << (tty ? "\n" : "") << "rigid-record: " << e.what() << ": recording stopped after " << when
+        << "; " << o.file << " holds the " << file->records_written()
+        << " records written before (readable, without its closing record)\n";
+    return clients::kExitFailed;
   } catch (const common::LogFileError& e) {
     err << (tty ? "\n" : "") << "rigid-record: " << e.what() << '\n';
     return clients::kExitFailed;
   }
   err << (tty ? "\r" : "") << "recorded "
-      << live_line(o.file, recorded_for, counts, file->bytes(), queue.dropped())
+      << live_line(o.file, recorded_for, counts, *file, queue.dropped())
       << (tty ? "\x1b[K\n" : "\n");
   return clients::kExitOk;
 }

@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "cli/dds_log.hpp"
 #include "cli/state_rows.hpp"
 #include "common/foxglove_messages.hpp"
 #include "common/log_records.hpp"
@@ -85,6 +86,8 @@ class Viewer {
   }
 
   std::uint16_t port() const { return server_->port(); }
+  std::string address() const { return server_->address(); }
+  bool listens_beyond_host() const { return server_->listens_beyond_host(); }
 
   void start() {
     session_.on_each_state([this](const StateFrame& s) {
@@ -526,21 +529,39 @@ int main(int argc, char** argv) {
                                               ? default_web_dir()
                                               : std::filesystem::path(options.web_dir));
   }
+  const clients::DdsLog dds_log;  // before the bus: Cyclone's lines are told in our words
   try {
     util::SignalWatcher signals({SIGINT, SIGTERM});
-    client::Session session(options.bus);
+    std::optional<client::Session> joined;
+    try {
+      joined.emplace(options.bus);
+    } catch (const client::BusError& e) {
+      std::cerr << "rigid-view: " << clients::bus_error_line(e.what(), options.bus, dds_log)
+                << '\n';
+      return clients::kExitFailed;
+    }
+    client::Session& session = *joined;
     Viewer viewer(options, session);
     viewer.start();
-    if (view::listens_beyond_host(options.host)) {
+    if (viewer.listens_beyond_host()) {
       std::cerr << "rigid-view: warning: listening on " << options.host
+                << (viewer.address() == options.host ? "" : " (" + viewer.address() + ")")
                 << ": any host that reaches this one can open the page"
                 << (options.read_only ? "" : " and pause, step, reset and push the simulation")
                 << " (no authentication; use 127.0.0.1 and an SSH tunnel, or --read-only)\n";
     }
-    std::cout << "rigid-view: http://" << options.host << ':' << viewer.port() << "/ ("
-              << client::describe(options.bus) << (options.read_only ? ", read-only" : "") << ")"
-              << std::endl;
+    std::cout << "rigid-view: http://" << view::url_host(options.host) << ':' << viewer.port()
+              << "/ (" << client::describe(options.bus) << (options.read_only ? ", read-only" : "")
+              << ")" << std::endl;
+    // A failed DDS Security handshake is told once (Cyclone repeats it every second), in one line.
+    std::string told;
     while (!signals.wait(1s)) {
+      const auto failure = dds_log.security_failure();
+      if (failure && failure->handshake && failure->reason != told) {
+        std::cerr << "rigid-view: DDS Security authentication with a participant failed: "
+                  << failure->reason << " (rigidd and this identity must come from one keystore)\n";
+        told = failure->reason;
+      }
     }
     viewer.stop();
     std::cerr << "rigid-view: " << view::describe(viewer.counts()) << '\n';

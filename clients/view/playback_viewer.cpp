@@ -65,6 +65,8 @@ class RecordingViewer {
   }
 
   std::uint16_t port() const { return server_->port(); }
+  std::string address() const { return server_->address(); }
+  bool listens_beyond_host() const { return server_->listens_beyond_host(); }
   const ServerCounts& counts() const { return server_->counts(); }
 
   void start() {
@@ -289,13 +291,14 @@ int serve_recording(const ViewOptions& options, const std::filesystem::path& web
     const std::string kind = recording.kind;
     RecordingViewer viewer(options, web_dir, std::move(recording));
     viewer.start();
-    if (listens_beyond_host(options.host)) {
+    if (viewer.listens_beyond_host()) {
       std::cerr << "rigid-view: warning: listening on " << options.host
+                << (viewer.address() == options.host ? "" : " (" + viewer.address() + ")")
                 << ": any host that reaches this one can open the page (no authentication; use "
                    "127.0.0.1 and an SSH tunnel)\n";
     }
-    std::cout << "rigid-view: http://" << options.host << ':' << viewer.port() << "/ (playing "
-              << options.file << ", " << kind << ": " << summary
+    std::cout << "rigid-view: http://" << url_host(options.host) << ':' << viewer.port()
+              << "/ (playing " << options.file << ", " << kind << ": " << summary
               << (options.read_only ? "; read-only" : "") << ")" << std::endl;
     while (!signals.wait(1s)) {
     }

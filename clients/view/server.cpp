@@ -468,8 +468,24 @@ ViewServer::ViewServer(const ServerOptions& options, CommandHandler on_command, 
                                      std::chrono::nanoseconds(1));
   impl_->files = read_page(options.web_dir);
   beast::error_code ec;
-  const auto address = net::ip::make_address(options.host, ec);
-  if (ec) throw std::runtime_error("--listen: not an IP address: " + options.host);
+  auto address = net::ip::make_address(options.host, ec);
+  if (ec) {
+    // A host name: its first IPv4 address (what a browser given the name reaches too: it falls
+    // back from IPv6), else its first address.
+    tcp::resolver resolver(impl_->ioc);
+    const auto found = resolver.resolve(options.host, std::to_string(options.port), ec);
+    if (ec || found.empty()) {
+      throw std::runtime_error("--listen: cannot resolve " + options.host + ": " +
+                               (ec ? ec.message() : std::string("no address")));
+    }
+    address = found.begin()->endpoint().address();
+    for (const auto& entry : found) {
+      if (entry.endpoint().address().is_v4()) {
+        address = entry.endpoint().address();
+        break;
+      }
+    }
+  }
   const tcp::endpoint endpoint(address, options.port);
   auto& a = impl_->acceptor;
   if (a.open(endpoint.protocol(), ec); !ec)
@@ -487,6 +503,14 @@ ViewServer::~ViewServer() {
 
 std::uint16_t ViewServer::port() const {
   return impl_->acceptor.local_endpoint().port();
+}
+
+std::string ViewServer::address() const {
+  return impl_->acceptor.local_endpoint().address().to_string();
+}
+
+bool ViewServer::listens_beyond_host() const {
+  return !impl_->acceptor.local_endpoint().address().is_loopback();
 }
 
 void ViewServer::start() {

@@ -49,7 +49,7 @@ struct ServerCounts {
 std::string describe(const ServerCounts& c);
 
 struct ServerOptions {
-  std::string host = "127.0.0.1";
+  std::string host = "127.0.0.1";  // an address, or a host name to resolve
   std::uint16_t port = 8765;
   bool read_only = false;
   std::filesystem::path web_dir;
@@ -99,6 +99,9 @@ class ViewServer {
   ViewServer& operator=(const ViewServer&) = delete;
 
   std::uint16_t port() const;
+  std::string address() const;  // the address it listens on (a host name resolved)
+  // Whether other hosts can reach it (the address is not loopback).
+  bool listens_beyond_host() const;
   void start();  // the server thread
   void stop();   // closes everything and joins
   // Any thread.

@@ -12,27 +12,58 @@ using clients::UsageError;
 constexpr std::array<std::string_view, 3> kFlags{"--help", "-h", "--read-only"};
 constexpr std::int64_t kMaxMemoryMib = 1 << 20;  // 1 TiB: beyond any machine this runs on
 
+// A host name as DNS spells one (RFC 1123): dot-separated labels of letters, digits and '-', not
+// starting or ending with '-', at most 63 characters each and 253 in all.
+bool host_name(std::string_view host) {
+  if (host.empty() || host.size() > 253) return false;
+  std::size_t label = 0;
+  char previous = '.';
+  for (const char c : host) {
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    if (c == '.') {
+      if (label == 0 || previous == '-') return false;
+      label = 0;
+    } else if (alnum || (c == '-' && label > 0)) {
+      if (++label > 63) return false;
+    } else {
+      return false;
+    }
+    previous = c;
+  }
+  return label > 0 && previous != '-';
+}
+
+// An IPv6 address between brackets, as URLs write it: hex digits, ':' and '.' (its last 32 bits
+// may be dotted); Asio checks it when rigid-view binds.
+bool ipv6_literal(std::string_view host) {
+  if (host.size() < 2 || host.size() > 45) return false;
+  for (const char c : host) {
+    const bool hex = (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+    if (!hex && c != ':' && c != '.') return false;
+  }
+  return host.find(':') != std::string_view::npos;
+}
+
 void parse_listen(std::string_view text, ViewOptions& o) {
   const auto colon = text.rfind(':');
   const std::string expected =
-      "--listen: expected ADDR:PORT (an IPv4 address, port 0-65535), got " + quoted(text);
+      "--listen: expected HOST:PORT (a host name, an IPv4 address or [an IPv6 address]; port "
+      "0-65535), got " +
+      quoted(text);
   if (colon == std::string_view::npos || colon == 0 || colon + 1 == text.size())
     throw UsageError(expected);
-  const std::string_view host = text.substr(0, colon);
+  std::string_view host = text.substr(0, colon);
   const std::string_view port = text.substr(colon + 1);
   unsigned value = 0;
   const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
   if (ec != std::errc() || end != port.data() + port.size() || value > 65535)
     throw UsageError(expected);
-  int dots = 0;
-  for (const char c : host) {
-    if (c == '.') {
-      ++dots;
-    } else if (c < '0' || c > '9') {
-      throw UsageError(expected);
-    }
+  if (host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+    if (!ipv6_literal(host)) throw UsageError(expected);
+  } else if (!host_name(host)) {  // dotted IPv4 addresses are host names to this check
+    throw UsageError(expected);
   }
-  if (dots != 3 || host.size() > 15) throw UsageError(expected);
   o.host = std::string(host);
   o.port = static_cast<std::uint16_t>(value);
 }
@@ -112,8 +143,8 @@ ViewOptions parse_options(std::span<const std::string_view> args) {
 
 std::string usage() {
   return std::string(
-             R"(usage: rigid-view [--listen ADDR:PORT] [--read-only] [--web-dir DIR] [bus options]
-       rigid-view [--listen ADDR:PORT] [--read-only] [--web-dir DIR] [--max-memory MIB]
+             R"(usage: rigid-view [--listen HOST:PORT] [--read-only] [--web-dir DIR] [bus options]
+       rigid-view [--listen HOST:PORT] [--read-only] [--web-dir DIR] [--max-memory MIB]
                   [--prefix P] FILE
 
 Shows a running rigidd in a web browser: serves one page and a WebSocket on ADDR:PORT and prints
@@ -132,9 +163,10 @@ read into memory, at most --max-memory MiB of them (default 512; a larger file i
 it, or play the file on a bus with `rigid-record play FILE` and watch it with a live rigid-view).
 A file cut short plays up to its damaged tail.
 
-  --listen ADDR:PORT  where to serve (default 127.0.0.1:8765; port 0: any free port). An address
-                      other than loopback serves every host that can reach this one, with no
-                      authentication: a warning is printed
+  --listen HOST:PORT  where to serve (default 127.0.0.1:8765; port 0: any free port). HOST is a
+                      host name (its first IPv4 address, else its first address), an IPv4
+                      address or [an IPv6 address]. An address other than loopback serves every
+                      host that can reach this one, with no authentication: a warning is printed
   --read-only         refuse every command from the page (it only watches)
   --web-dir DIR       the page's files (default: web/ next to the executable)
   --foxglove-origin ORIGIN
@@ -146,8 +178,8 @@ A file cut short plays up to its damaged tail.
 )") + std::string(clients::bus_options_help());
 }
 
-bool listens_beyond_host(const std::string& host) {
-  return host.rfind("127.", 0) != 0;
+std::string url_host(const std::string& host) {
+  return host.find(':') == std::string::npos ? host : "[" + host + "]";
 }
 
 }  // namespace rigid::view

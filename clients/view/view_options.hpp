@@ -15,8 +15,8 @@ namespace rigid::view {
 
 struct ViewOptions {
   client::BusOptions bus;
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 8765;  // 0: any free port (printed)
+  std::string host = "127.0.0.1";  // as given: a host name or an address (IPv6 without brackets)
+  std::uint16_t port = 8765;       // 0: any free port (printed)
   bool read_only = false;
   std::string web_dir;  // empty: "web" next to the executable
   std::string file;     // rigid-view FILE: play this recording; empty: live from the bus
@@ -30,7 +30,7 @@ struct ViewOptions {
 // Throws clients::UsageError (one line).
 ViewOptions parse_options(std::span<const std::string_view> args);
 std::string usage();
-// Whether the address is reachable from other hosts (not loopback).
-bool listens_beyond_host(const std::string& host);
+// The host as a URL spells it: an IPv6 address between brackets.
+std::string url_host(const std::string& host);
 
 }  // namespace rigid::view

@@ -11,6 +11,7 @@
 #include "common/log_records.hpp"
 #include "common/state_conversion.hpp"
 #include "loop/clock.hpp"
+#include "loop/overrun_log.hpp"
 #include "rigid/names.hpp"
 #include "util/cpu_affinity.hpp"
 #include "util/thread_name.hpp"
@@ -341,8 +342,7 @@ rigid::StatsReport Server::make_stats(const LoopSummary& s) const {
 void Server::housekeeping() {
   constexpr auto kPeriod = std::chrono::milliseconds(100);
   std::int64_t next_scene_ns = monotonic_ns() + 1'000'000'000;
-  std::int64_t overruns_logged = 0;
-  std::int64_t next_overrun_log_ns = 0;
+  OverrunLog overrun_log;
   LoopSummary summary;
   std::unique_lock lock(mutex_);
   while (!stopping_) {
@@ -363,14 +363,7 @@ void Server::housekeeping() {
         (void)t->republish_scene();  // failures are counted by the transport
       next_scene_ns = now + 1'000'000'000;
     }
-    const std::int64_t overruns = loop_.overruns();
-    if (overruns > overruns_logged && now >= next_overrun_log_ns) {
-      log_.line("overrun: " + std::to_string(overruns - overruns_logged) +
-                " tick(s) skipped because the loop fell behind (" + std::to_string(overruns) +
-                " since start); simulated time lags the wall clock by as many ticks");
-      overruns_logged = overruns;
-      next_overrun_log_ns = now + 1'000'000'000;
-    }
+    if (auto line = overrun_log.update(loop_.overruns(), now)) log_.line(*line);
     lock.lock();
   }
 }

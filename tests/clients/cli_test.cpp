@@ -10,6 +10,7 @@
 
 #include "attitude_options.hpp"
 #include "ctl/ctl_options.hpp"
+#include "ctl/push_request.hpp"
 #include "record/record_options.hpp"
 #include "rigidd_process.hpp"
 
@@ -39,6 +40,8 @@ TEST(RigidctlOptions, CommandsAndTheirArguments) {
   EXPECT_EQ(push.point, (rigid::Vec3{0.5, 0, 0}));
   EXPECT_EQ(push.frame, rigid::Frame::kBody);
   EXPECT_EQ(push.for_seconds, 2.5);
+  EXPECT_EQ(push.torque, (rigid::Vec3{}));
+  EXPECT_FALSE(ctl_parse({"push", "brick", "--torque", "0,0,1"}).for_seconds);
   EXPECT_EQ(push.bus.bus, rigid::Bus::kLcm);
   EXPECT_EQ(push.bus.prefix, "lab");
   EXPECT_EQ(push.timeout, std::chrono::milliseconds(500));
@@ -65,7 +68,8 @@ TEST(RigidctlOptions, RefusalsNameTheArgumentAndItsValue) {
       {{"step", "1", "2"}, "step: unexpected argument '2'"},
       {{"rate", "0"}, "rate: expected a real-time factor > 0 and <= 1000, got '0'"},
       {{"rate", "1001"}, "rate: expected a real-time factor > 0 and <= 1000, got '1001'"},
-      {{"push", "box"}, "push: missing --force fx,fy,fz"},
+      {{"push", "box"}, "push: missing --force fx,fy,fz or --torque tx,ty,tz"},
+      {{"push", "box", "--torque", "1,2"}, "--torque: expected three numbers x,y,z, got '1,2'"},
       {{"push", "box", "--force", "1,2"}, "--force: expected three numbers x,y,z, got '1,2'"},
       {{"push", "box", "--force", "1,2,nan"}, "--force: expected three numbers x,y,z, got"},
       {{"push", "box", "--force", "1,2,3", "--frame", "local"},
@@ -91,6 +95,63 @@ TEST(RigidctlOptions, RefusalsNameTheArgumentAndItsValue) {
   }
 }
 
+// rigidctl push against the running scene (push_request.hpp): what rigidd would refuse is refused
+// with its reason before sending; without --for a push lasts 1 s (or the scene's max_ttl if less),
+// and the answer says what it amounts to.
+rigid::SceneDescription push_scene(double max_ttl) {
+  rigid::SceneDescription s;
+  s.dt = 0.001;
+  s.max_force = 100;
+  s.max_torque = 50;
+  s.max_ttl = max_ttl;
+  s.ids = {0, 1};
+  s.names = {"puck", "brick"};
+  s.masses = {2.0, 8.0};
+  return s;
+}
+
+TEST(RigidctlPush, TheScenesLimitsAreCheckedAsRigiddWouldAndTheDefaultLastsOneSecond) {
+  const rigid::SceneDescription scene = push_scene(5);
+  const ctl::PushRequest ok =
+      ctl::make_push(ctl_parse({"push", "brick", "--force", "8,0,0"}), scene, 1);
+  EXPECT_TRUE(ok.refusal.empty()) << ok.refusal;
+  EXPECT_EQ(ok.wrench.ttl, 1.0);
+  EXPECT_EQ(ok.wrench.body_name, "brick");
+  EXPECT_EQ(ctl::push_summary(ok, ctl_parse({"push", "brick", "--force", "8,0,0"}), scene),
+            "for 1 s (default; --for S): impulse 8 N s, |dv| 1 m/s on its 8 kg");
+  // A scene whose max_ttl is below the default: the push lasts max_ttl.
+  EXPECT_EQ(ctl::make_push(ctl_parse({"push", "puck", "--force", "1,0,0"}), push_scene(0.25), 0)
+                .wrench.ttl,
+            0.25);
+  // Torque, in the frame --frame names, alone or with a force.
+  const ctl::CtlOptions twist =
+      ctl_parse({"push", "puck", "--torque", "0,0,3", "--frame", "body", "--for", "0.5"});
+  const ctl::PushRequest t = ctl::make_push(twist, scene, 0);
+  EXPECT_EQ(t.wrench.torque, (rigid::Vec3{0, 0, 3}));
+  EXPECT_EQ(t.wrench.torque_frame, rigid::Frame::kBody);
+  EXPECT_EQ(t.wrench.force_frame, rigid::Frame::kBody);
+  EXPECT_EQ(ctl::push_summary(t, twist, scene), "for 0.5 s: angular impulse 1.5 N m s");
+  const ctl::CtlOptions tick = ctl_parse({"push", "puck", "--force", "2,0,0", "--for", "0"});
+  EXPECT_EQ(ctl::push_summary(ctl::make_push(tick, scene, 0), tick, scene),
+            "for one tick (1 ms; --for S pushes longer): impulse 0.002 N s, |dv| 0.001 m/s on "
+            "its 2 kg");
+  const struct {
+    std::vector<std::string> args;
+    std::string refusal;
+  } refused[] = {
+      {{"push", "puck", "--force", "0,0,101"},
+       "--force: |f| = 101 N is above the scene's max_force of 100 N"},
+      {{"push", "puck", "--torque", "51,0,0"},
+       "--torque: |t| = 51 N m is above the scene's max_torque of 50 N m"},
+      {{"push", "puck", "--force", "0,0,60", "--at", "1,0,0"},
+       "--at: |point x force| = 60 N m is above the scene's max_torque of 50 N m"},
+      {{"push", "puck", "--force", "1,0,0", "--for", "6"},
+       "--for 6 s is above the scene's max_ttl of 5 s"},
+  };
+  for (const auto& c : refused)
+    EXPECT_EQ(ctl::make_push(ctl_parse(c.args), scene, 0).refusal, c.refusal) << c.refusal;
+}
+
 TEST(RigidRecordOptions, CommandsAndRefusals) {
   auto parse = [](const std::vector<std::string>& args) {
     const auto v = view(args);
@@ -111,6 +172,12 @@ TEST(RigidRecordOptions, CommandsAndRefusals) {
   EXPECT_TRUE(m.csv.empty());
   EXPECT_TRUE(m.force);
   EXPECT_EQ(parse({"play", "a.rlog", "--speed", "4"}).speed, 4.0);
+  const record::RecordOptions d =
+      parse({"record", "o.rlog", "--every", "10", "--compress", "none"});
+  EXPECT_EQ(d.every, 10);
+  EXPECT_FALSE(d.compress);
+  EXPECT_TRUE(parse({"record", "o.rlog"}).compress);
+  EXPECT_EQ(parse({"record", "o.rlog"}).every, 1);
   EXPECT_TRUE(parse({"record", "-f", "o.rlog"}).force);
   const struct {
     std::vector<std::string> args;
@@ -125,6 +192,9 @@ TEST(RigidRecordOptions, CommandsAndRefusals) {
       {{"play", "a", "--speed", "0"}, "--speed: expected a speed factor > 0, got '0'"},
       {{"record", "a", "--duration", "x"}, "--duration: expected a duration in seconds > 0"},
       {{"dump", "a"}, "unknown command 'dump'"},
+      {{"record", "a", "--every", "0"}, "--every: expected an integer >= 1, got '0'"},
+      {{"record", "a", "--compress", "lz4"}, "--compress: expected zstd or none, got 'lz4'"},
+      {{"export", "a", "--csv", "b", "--every", "2"}, "unknown option '--every' for export"},
   };
   for (const auto& c : cases) {
     try {

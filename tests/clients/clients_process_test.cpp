@@ -5,7 +5,9 @@
 // (ctest sets it).
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -13,6 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -173,6 +177,27 @@ TEST_P(Rigidctl, ControlsRoundTripAndEachIsAnswered) {
   const Completed pushed = ok({"push", "puck", "--force", "4,0,0", "--for", "0.1"});
   EXPECT_EQ(pushed.out.rfind("push: accepted at tick " + std::to_string(at + 10), 0), 0u)
       << pushed.out;
+  // Without --for: 1 s, and the answer says what it amounts to.
+  const Completed twist = ok({"push", "puck", "--torque", "0,0,2"});
+  EXPECT_NE(twist.out.find(" for 1 s (default; --for S): angular impulse 2 N m s"),
+            std::string::npos)
+      << twist.out;
+  // What needs the scene is refused before sending, with rigidd's exit status for a refusal (1),
+  // and nothing is sent (the ticks below are those of the steps alone). rigidctl's own checks:
+  // once, on DDS (LCM waits up to a second for each scene).
+  for (const auto& [args, line] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"push", "puck", "--force", "0,0,101"},
+            "rigidctl: push: refused: --force: |f| = 101 N is above the scene's max_force of 100 "
+            "N\n"},
+           {{"push", "puck", "--force", "1,0,0", "--for", "6"},
+            "rigidctl: push: refused: --for 6 s is above the scene's max_ttl of 5 s\n"},
+           {{"push", "nobody", "--force", "1,0,0"},
+            "rigidctl: push: refused: no body 'nobody' in the scene (bodies: "}}) {
+    if (GetParam() != Bus::kDds) break;
+    const Completed r = s.run(RIGIDCTL_EXE, args);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind(line, 0), 0u) << r.err;
+  }
   EXPECT_EQ(tick_in(ok({"step", "5"}).out), at + 15);
   EXPECT_EQ(ok({"resume"}).out.rfind("resume: ok", 0), 0u);
   EXPECT_EQ(ok({"rate", "2"}).out.rfind("rate: ok", 0), 0u);
@@ -439,65 +464,219 @@ TEST(RigidRecord, NoServerMeansExit3AndNoFile) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-TEST(RigidRecord, ARecorderKilledMidWriteLeavesAFileReadableUpToItsLastCompleteRecord) {
+// The frames of a rigid log as its reader passes them: where each starts (and, last, where the
+// last one ends) and how many records each held (a chunk holds several).
+struct Frames {
+  std::vector<std::uint64_t> starts;
+  std::vector<int> records;
+  int complete = 0;
+};
+
+Frames frames_of(const std::string& path) {
+  Frames f;
+  common::RecordReader reader(path);
+  msgs::LogRecord rec;
+  f.starts.push_back(reader.offset());
+  int in_frame = 0;
+  while (reader.next(rec)) {
+    ++f.complete;
+    ++in_frame;
+    EXPECT_FALSE(rec.has_end());  // killed: never closed
+    if (reader.offset() != f.starts.back()) {
+      f.starts.push_back(reader.offset());
+      f.records.push_back(in_frame);
+      in_frame = 0;
+    }
+  }
+  EXPECT_EQ(in_frame, 0);
+  return f;
+}
+
+// Killed at no particular moment, a recorder leaves its file readable up to its last complete
+// frame: a record (--compress none), or a chunk of the records of at most one flush (default).
+// info reports as much, and a file cut inside its last frame (what a kill in the middle of
+// writing one leaves, at every kind of place: the frame header, the payload) reads up to it.
+TEST(RigidRecord, ARecorderKilledMidWriteLeavesAFileReadableUpToItsLastCompleteFrame) {
   TestDir dir;
   Session s(Bus::kDds, kDefault);
   ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
-  const std::string out = dir.file("killed.rlog");
-  RigiddProcess recorder(RIGID_RECORD_EXE, concat({"record", out}, s.bus_args()), {});
-  // Killed while it writes: once it has written a fair amount, at no particular moment.
+  const std::string plain = dir.file("plain.rlog"), packed = dir.file("packed.rlog");
+  RigiddProcess plain_recorder(RIGID_RECORD_EXE,
+                               concat({"record", plain, "--compress", "none"}, s.bus_args()), {});
+  RigiddProcess packed_recorder(RIGID_RECORD_EXE, concat({"record", packed}, s.bus_args()), {});
+  // Killed while they write: once both have written a fair amount.
   const auto deadline = std::chrono::steady_clock::now() + 10s;
-  const auto size = [&] {
+  const auto size = [&](const std::string& path) {
     std::error_code ec;  // not created yet: 0
-    const std::uintmax_t n = std::filesystem::file_size(out, ec);
+    const std::uintmax_t n = std::filesystem::file_size(path, ec);
     return ec ? 0 : n;
   };
-  while (std::chrono::steady_clock::now() < deadline && size() < 40'000)
+  while (std::chrono::steady_clock::now() < deadline &&
+         (size(plain) < 40'000 || size(packed) < 20'000))
     std::this_thread::sleep_for(10ms);
-  recorder.signal(SIGKILL);
-  ASSERT_TRUE(recorder.wait_exit(2s));
-  ASSERT_GE(std::filesystem::file_size(out), 40'000u) << recorder.stderr_text();
+  plain_recorder.signal(SIGKILL);
+  packed_recorder.signal(SIGKILL);
+  ASSERT_TRUE(plain_recorder.wait_exit(2s));
+  ASSERT_TRUE(packed_recorder.wait_exit(2s));
+  ASSERT_GE(size(plain), 40'000u) << plain_recorder.stderr_text();
+  ASSERT_GE(size(packed), 20'000u) << packed_recorder.stderr_text();
 
-  // What the reader finds, and that info reports the same and exits 0.
-  std::vector<std::uint64_t> starts;
-  int complete = 0;
-  {
-    common::RecordReader reader(out);
-    msgs::LogRecord rec;
-    starts.push_back(reader.offset());
-    while (reader.next(rec)) {
-      ++complete;
-      starts.push_back(reader.offset());
-      EXPECT_FALSE(rec.has_end());  // killed: never closed
+  for (const std::string& out : {plain, packed}) {
+    SCOPED_TRACE(out);
+    const Frames frames = frames_of(out);
+    EXPECT_GT(frames.complete, 50);
+    // Records one a frame, or chunks of several.
+    const int most = *std::max_element(frames.records.begin(), frames.records.end());
+    EXPECT_EQ(most > 1, out == packed) << most;
+    const Completed info = run_program_to_exit(RIGID_RECORD_EXE, {"info", out});
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_NE(info.out.find(std::to_string(frames.complete) + " complete records"),
+              std::string::npos)
+        << info.out;
+    const bool tail = info.out.find("damaged tail") != std::string::npos;
+    const bool unclosed = info.out.find("no closing record") != std::string::npos;
+    EXPECT_TRUE(tail || unclosed) << info.out;
+
+    const std::string bytes = sim::testing::read_file(out);
+    const std::uint64_t last = frames.starts[frames.starts.size() - 2];  // the last whole frame
+    const std::uint64_t end = frames.starts.back();
+    const int before = frames.complete - frames.records.back();
+    for (const std::uint64_t cut : {last + 3, last + 8, last + 9, (last + end) / 2, end - 1}) {
+      const std::string cut_path = dir.file("cut.rlog");
+      sim::testing::write_file(cut_path, bytes.substr(0, cut));
+      const Completed c = run_program_to_exit(RIGID_RECORD_EXE, {"info", cut_path});
+      EXPECT_EQ(c.exit_code, 0) << c.err;
+      EXPECT_NE(c.out.find(std::to_string(before) + " complete records"), std::string::npos)
+          << "cut at " << cut << ":\n"
+          << c.out;
+      EXPECT_NE(c.out.find("damaged tail at offset " + std::to_string(last) + ": " +
+                           std::to_string(cut - last) + " bytes not read"),
+                std::string::npos)
+          << "cut at " << cut << ":\n"
+          << c.out;
     }
   }
-  EXPECT_GT(complete, 50);
-  const Completed info = run_program_to_exit(RIGID_RECORD_EXE, {"info", out});
-  EXPECT_EQ(info.exit_code, 0) << info.err;
-  EXPECT_NE(info.out.find(std::to_string(complete) + " complete records"), std::string::npos)
-      << info.out;
-  const bool tail = info.out.find("damaged tail") != std::string::npos;
-  const bool unclosed = info.out.find("no closing record") != std::string::npos;
-  EXPECT_TRUE(tail || unclosed) << info.out;
+  EXPECT_EQ(s.stop(), 0);
+}
 
-  // The kill may land between two records; cutting the file inside its last record is what a kill
-  // in the middle of one leaves, at every kind of place: in the frame header, in the payload.
-  const std::string bytes = sim::testing::read_file(out);
-  const std::uint64_t last = starts[starts.size() - 2];  // the start of the last complete record
-  for (const std::uint64_t cut :
-       {last + 3, last + 8, last + 9, (last + starts.back()) / 2, starts.back() - 1}) {
-    const std::string cut_path = dir.file("cut.rlog");
-    sim::testing::write_file(cut_path, bytes.substr(0, cut));
-    const Completed c = run_program_to_exit(RIGID_RECORD_EXE, {"info", cut_path});
-    EXPECT_EQ(c.exit_code, 0) << c.err;
-    EXPECT_NE(c.out.find(std::to_string(complete - 1) + " complete records"), std::string::npos)
-        << "cut at " << cut << ":\n"
-        << c.out;
-    EXPECT_NE(c.out.find("damaged tail at offset " + std::to_string(last) + ": " +
-                         std::to_string(cut - last) + " bytes not read"),
-              std::string::npos)
-        << "cut at " << cut << ":\n"
-        << c.out;
+// --every N keeps the states whose tick is a multiple of N publication periods (the default scene
+// publishes every 10 ticks): exactly those of a full recording made beside it, bit for bit, and
+// no other.
+TEST(RigidRecord, EveryNKeepsOneStateInNEvenlySpaced) {
+  TestDir dir;
+  Session s(Bus::kDds, kDefault);
+  ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
+  const std::string full = dir.file("full.rlog"), fifth = dir.file("fifth.rlog");
+  RigiddProcess full_recorder(RIGID_RECORD_EXE,
+                              concat({"record", full, "--duration", "2"}, s.bus_args()), {});
+  RigiddProcess fifth_recorder(
+      RIGID_RECORD_EXE, concat({"record", fifth, "--duration", "2", "--every", "5"}, s.bus_args()),
+      {});
+  for (RigiddProcess* p : {&full_recorder, &fifth_recorder}) {
+    const auto status = p->wait_exit(15s);
+    ASSERT_TRUE(status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0) << p->stderr_text();
+  }
+  EXPECT_NE(fifth_recorder.stderr_text().find(" states left out (--every)"), std::string::npos)
+      << fifth_recorder.stderr_text();
+  const auto states = [](const std::string& path) {
+    std::map<std::int64_t, msgs::StateRecord> by_tick;
+    common::RecordReader reader(path);
+    msgs::LogRecord rec;
+    while (reader.next(rec))
+      if (rec.has_state()) by_tick[rec.state().tick()] = rec.state();
+    EXPECT_FALSE(reader.damage());
+    return by_tick;
+  };
+  const auto all = states(full), kept = states(fifth);
+  ASSERT_GT(all.size(), 120u);
+  int expected = 0, matched = 0;
+  for (const auto& [tick, state] : all) {
+    if (tick % 50 != 0) continue;
+    ++expected;
+    const auto it = kept.find(tick);
+    if (it == kept.end()) continue;  // best-effort delivery may lose one to either recorder
+    ++matched;
+    EXPECT_EQ(it->second.position_size(), state.position_size());
+    for (int i = 0; i < state.position_size(); ++i)
+      ASSERT_EQ(it->second.position(i), state.position(i)) << "tick " << tick;
+  }
+  for (const auto& [tick, state] : kept)
+    EXPECT_EQ(tick % 50, 0) << "kept tick " << tick;
+  EXPECT_GE(matched, expected - 3);
+  EXPECT_LE(kept.size(), static_cast<std::size_t>(expected) + 3);
+  EXPECT_EQ(s.stop(), 0);
+}
+
+// A small file system made for the test (a tmpfs of 64 KiB, mounted as root: CI runs as root) that
+// the recorder fills: it stops with exit 1 and one line saying so, and its file reads back whole,
+// every record intact (its states equal to what a subscriber saw) up to the last that fitted.
+// Both formats: records one by one, and chunks.
+TEST(RigidRecord, ADiskThatFillsEndsTheRecordingCleanly) {
+  if (::geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root (CI runs as root)";
+  TestDir dir;
+  struct Mount {
+    std::string path;
+    explicit Mount(std::string p) : path(std::move(p)) {
+      std::filesystem::create_directories(path);
+      ok = ::mount("tmpfs", path.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, "size=64k") == 0;
+    }
+    ~Mount() {
+      if (ok) ::umount2(path.c_str(), MNT_DETACH);
+    }
+    bool ok = false;
+  };
+  const Mount plain_fs(dir.file("plain_fs")), packed_fs(dir.file("packed_fs"));
+  ASSERT_TRUE(plain_fs.ok && packed_fs.ok) << "mount tmpfs: " << std::strerror(errno);
+  Session s(Bus::kDds, kDefault);
+  ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
+  const std::string plain = plain_fs.path + "/run.rlog", packed = packed_fs.path + "/run.rlog";
+  RigiddProcess plain_recorder(RIGID_RECORD_EXE,
+                               concat({"record", plain, "--compress", "none"}, s.bus_args()), {});
+  RigiddProcess packed_recorder(RIGID_RECORD_EXE, concat({"record", packed}, s.bus_args()), {});
+  for (const auto& [recorder, out] : std::vector<std::pair<RigiddProcess*, std::string>>{
+           {&plain_recorder, plain}, {&packed_recorder, packed}}) {
+    SCOPED_TRACE(out);
+    // 64 KiB fill in a second at 100 states of 5 bodies a second, within a few compressed.
+    const auto status = recorder->wait_exit(30s);
+    ASSERT_TRUE(status && WIFEXITED(*status)) << recorder->stderr_text();
+    EXPECT_EQ(WEXITSTATUS(*status), 1) << recorder->stderr_text();
+    // Its one line, last: what happened, and what the file holds.
+    const std::string err = recorder->stderr_text();
+    const std::size_t from = err.rfind('\n', err.size() - 2);
+    const std::string last = err.substr(from == std::string::npos ? 0 : from + 1);
+    EXPECT_EQ(last.rfind("rigid-record: " + out + ": No space left on device after ", 0), 0u)
+        << err;
+    EXPECT_NE(last.find(": recording stopped after "), std::string::npos) << last;
+    std::size_t holds = last.find(" holds the ");
+    ASSERT_NE(holds, std::string::npos) << last;
+    const long long said = std::atoll(last.c_str() + holds + 11);
+    EXPECT_EQ(count_lines(last), 1) << last;
+
+    // Every record intact, to the end of the file: no damaged tail, no closing record.
+    common::RecordReader reader(out);
+    msgs::LogRecord rec;
+    int states = 0, matched = 0;
+    const std::vector<TimedState> seen = s.client_->states();
+    while (reader.next(rec)) {
+      EXPECT_FALSE(rec.has_end());
+      if (!rec.has_state()) continue;
+      ++states;
+      rigid::StateFrame f;
+      ASSERT_TRUE(common::from_record(rec.state(), f));
+      for (const TimedState& t : seen) {
+        if (t.state.tick != f.tick) continue;
+        EXPECT_EQ(t.state.position, f.position) << "tick " << f.tick;
+        EXPECT_EQ(t.state.angular_velocity, f.angular_velocity) << "tick " << f.tick;
+        ++matched;
+        break;
+      }
+    }
+    EXPECT_FALSE(reader.damage()) << reader.damage()->reason;
+    EXPECT_EQ(reader.offset(), reader.size());
+    EXPECT_EQ(reader.records(), said) << last;
+    EXPECT_GT(states, 20);
+    EXPECT_GE(matched, states - 5);  // best-effort: the subscriber may have lost a few
+    EXPECT_LE(std::filesystem::file_size(out), 64u * 1024u);
   }
   EXPECT_EQ(s.stop(), 0);
 }
@@ -639,6 +818,12 @@ TEST_P(Attitude, TheControllerSettlesWithinOneDegreeFromNinetyAndHolds) {
   EXPECT_NE(printed.find("rigid-attitude: settled within 1 deg after"), std::string::npos)
       << printed;
   EXPECT_NE(printed.find(" error "), std::string::npos);  // it printed its error as it went
+  // Its start line once: the scene it waited for is not a change of scene to announce again.
+  int holding = 0;
+  for (std::size_t at = printed.find("rigid-attitude: holding "); at != std::string::npos;
+       at = printed.find("rigid-attitude: holding ", at + 1))
+    ++holding;
+  EXPECT_EQ(holding, 1) << printed;
   // Seen independently: the last 1.5 s of the controller's run all within 1 degree.
   const std::vector<TimedState> seen = s.client_->states();
   const std::int64_t end_ns = seen.back().state.stamp_ns;  // rigidd's clock

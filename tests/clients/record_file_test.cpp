@@ -5,8 +5,10 @@
 #include "common/record_file.hpp"
 
 #include <gtest/gtest.h>
+#include <zstd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -227,14 +229,232 @@ TEST(RecordFile, NotALogFileIsRefusedWithOneLine) {
   }
   EXPECT_THROW(common::RecordReader{dir.file("missing")}, common::LogFileError);
   std::string future = "RIGIDLOG";
-  future += std::string("\x02\0\0\0", 4);
+  future += std::string("\x03\0\0\0", 4);
   write_file(path, future);
   try {
     common::RecordReader reader(path);
     FAIL();
   } catch (const common::LogFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("version 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("version 3"), std::string::npos) << e.what();
   }
+}
+
+// Format 2: records in zstd chunks.
+
+common::Compression zstd() {
+  common::Compression c;
+  c.zstd = true;
+  return c;
+}
+
+// A recording of a header and `n` states of `bodies` bodies, each state written as `write` does
+// it; `flush_every`: a flush (which seals the open chunk) after every so many states (0: none).
+void write_chunked(const std::string& path, int n, std::size_t bodies, int flush_every,
+                   common::Compression compression = zstd()) {
+  common::RecordWriter w(path, true, compression);
+  msgs::LogRecord r;
+  r.mutable_header()->set_kind(msgs::LogHeader::RECORDING);
+  w.append(r);
+  for (int i = 0; i < n; ++i) {
+    common::to_record(sample_state(i, bodies), i, *r.mutable_state());
+    w.append(r);
+    if (flush_every > 0 && (i + 1) % flush_every == 0) w.flush();
+  }
+  w.close();
+}
+
+// The states a file holds, in order, and how it ends.
+std::vector<rigid::StateFrame> read_states(const std::string& path,
+                                           std::optional<common::Damage>* damage = nullptr,
+                                           std::int64_t* chunks = nullptr) {
+  common::RecordReader reader(path);
+  std::vector<rigid::StateFrame> states;
+  msgs::LogRecord r;
+  while (reader.next(r)) {
+    if (!r.has_state()) continue;
+    rigid::StateFrame f;
+    EXPECT_TRUE(common::from_record(r.state(), f));
+    states.push_back(f);
+  }
+  if (damage) *damage = reader.damage();
+  if (chunks) *chunks = reader.chunks();
+  return states;
+}
+
+TEST(RecordFileChunks, RecordsComeBackExactlyAsWrittenAndTheFileIsSmaller) {
+  TestDir dir;
+  const std::string plain = dir.file("plain.rlog"), packed = dir.file("packed.rlog");
+  // 400 states of 100 bodies: about 4 MB of records, so chunks are sealed by size (1 MiB) too.
+  write_chunked(plain, 400, 100, 10, common::Compression{});
+  write_chunked(packed, 400, 100, 10);
+  std::optional<common::Damage> damage;
+  std::int64_t chunks = 0;
+  const std::vector<rigid::StateFrame> states = read_states(packed, &damage, &chunks);
+  EXPECT_FALSE(damage);
+  EXPECT_EQ(chunks, 40);  // one per flush: 10 states of ~10 kB stay below 1 MiB
+  ASSERT_EQ(states.size(), 400u);
+  for (int i = 0; i < 400; ++i)
+    ASSERT_EQ(states[static_cast<std::size_t>(i)], sample_state(i, 100)) << i;
+  EXPECT_EQ(read_states(plain), states);
+  EXPECT_LT(std::filesystem::file_size(packed), std::filesystem::file_size(plain) * 3 / 4);
+  // The preamble says which format.
+  EXPECT_EQ(read_file(packed).substr(8, 4), std::string("\x02\0\0\0", 4));
+  EXPECT_EQ(read_file(plain).substr(8, 4), std::string("\x01\0\0\0", 4));
+  // Without flushes, chunks are sealed at 1 MiB of records.
+  write_chunked(packed, 400, 100, 0);
+  EXPECT_EQ(read_states(packed, &damage, &chunks), states);
+  EXPECT_FALSE(damage);
+  EXPECT_GE(chunks, 4);
+  EXPECT_LE(chunks, 5);
+}
+
+// Where each chunk of a file of chunks ends: where the reader's offset moves on.
+std::vector<std::uint64_t> chunk_ends(const std::string& path) {
+  common::RecordReader reader(path);
+  std::vector<std::uint64_t> ends;
+  std::uint64_t at = reader.offset();
+  msgs::LogRecord r;
+  while (reader.next(r)) {
+    if (reader.offset() != at) ends.push_back(reader.offset());
+    at = reader.offset();
+  }
+  EXPECT_EQ(static_cast<std::size_t>(reader.chunks()), ends.size());
+  return ends;
+}
+
+TEST(RecordFileChunks, AFileCutAtAnyByteReadsEveryCompleteChunkAndReportsTheTail) {
+  TestDir dir;
+  const std::string path = dir.file("full.rlog");
+  write_chunked(path, 12, 3, 4);  // the header and states 0-3, states 4-7, states 8-11
+  const std::string full = read_file(path);
+  // Where each chunk starts and ends: the offsets the reader passes.
+  const std::vector<std::uint64_t> ends = chunk_ends(path);
+  ASSERT_EQ(ends.size(), 3u);
+  ASSERT_EQ(ends.back(), full.size());
+  const std::string cut = dir.file("cut.rlog");
+  for (std::uint64_t size = common::kLogPreambleBytes; size <= full.size(); ++size) {
+    write_file(cut, full.substr(0, size));
+    std::optional<common::Damage> damage;
+    const std::vector<rigid::StateFrame> states = read_states(cut, &damage);
+    std::size_t whole = 0;  // chunks entirely within `size` bytes
+    while (whole < ends.size() && ends[whole] <= size)
+      ++whole;
+    EXPECT_EQ(states.size(), 4 * whole) << "cut at " << size;
+    const std::uint64_t intact = whole == 0 ? common::kLogPreambleBytes : ends[whole - 1];
+    if (size == intact) {
+      EXPECT_FALSE(damage) << "cut at " << size;
+    } else {
+      ASSERT_TRUE(damage) << "cut at " << size;
+      EXPECT_EQ(damage->offset, intact) << "cut at " << size;
+      EXPECT_EQ(damage->bytes, size - intact);
+      EXPECT_NE(damage->reason.find("cut short"), std::string::npos) << damage->reason;
+    }
+  }
+}
+
+TEST(RecordFileChunks, ACorruptedByteAnywhereInAChunkDamagesItWhole) {
+  TestDir dir;
+  const std::string path = dir.file("a.rlog");
+  write_chunked(path, 12, 3, 4);
+  const std::string good = read_file(path);
+  const std::vector<std::uint64_t> ends = chunk_ends(path);
+  ASSERT_EQ(ends.size(), 3u);
+  // Every byte of the second chunk: states 0-3 read, then damage at the chunk's start.
+  for (std::uint64_t at = ends[0]; at < ends[1]; ++at) {
+    std::string bad = good;
+    bad[at] = static_cast<char>(bad[at] ^ 0x10);
+    write_file(path, bad);
+    std::optional<common::Damage> damage;
+    EXPECT_EQ(read_states(path, &damage).size(), 4u) << "byte " << at;
+    ASSERT_TRUE(damage) << "byte " << at;
+    EXPECT_EQ(damage->offset, ends[0]) << "byte " << at;
+  }
+}
+
+// A chunk whose content lies (a writer's bug, or a forged file whose outer checksum was made to
+// match): caught inside, as damage at the chunk's start, before any of its records is returned.
+TEST(RecordFileChunks, AChunkIsCheckedWholeBeforeItsFirstRecord) {
+  TestDir dir;
+  const std::string path = dir.file("forged.rlog");
+  // Frames as a writer frames them, and a chunk frame around zstd bytes.
+  const auto u32 = [](std::uint32_t v) {
+    std::string b(4, '\0');
+    for (int i = 0; i < 4; ++i)
+      b[static_cast<std::size_t>(i)] = static_cast<char>((v >> (8 * i)) & 0xFF);
+    return b;
+  };
+  const auto frame = [&](const std::string& payload, bool chunk) {
+    const std::string length =
+        u32(static_cast<std::uint32_t>(payload.size()) | (chunk ? common::kChunkFlag : 0u));
+    return length + u32(crc32c(bytes(payload), crc32c(bytes(length)))) + payload;
+  };
+  msgs::LogRecord r;
+  common::to_record(sample_state(1, 2), 0, *r.mutable_state());
+  const std::string record = frame(r.SerializeAsString(), false);
+  const std::string preamble = std::string("RIGIDLOG") + u32(2);
+  const auto chunk_of = [&](const std::string& content) {
+    std::string out(ZSTD_compressBound(content.size()), '\0');
+    out.resize(ZSTD_compress(out.data(), out.size(), content.data(), content.size(), 3));
+    return frame(out, true);
+  };
+  const std::string good =
+      preamble + frame(r.SerializeAsString(), false) + chunk_of(record + record);
+  write_file(path, good);
+  std::optional<common::Damage> damage;
+  EXPECT_EQ(read_states(path, &damage).size(), 3u);
+  EXPECT_FALSE(damage);
+  std::string inner_bad = record;
+  inner_bad[10] = static_cast<char>(inner_bad[10] ^ 1);  // in the payload: its checksum fails
+  for (const auto& [content, reason] : std::vector<std::pair<std::string, std::string>>{
+           {record + inner_bad, "checksum mismatch inside a chunk"},
+           {record + record.substr(0, 5), "a chunk that ends inside a frame header"},
+           {record + record.substr(0, record.size() - 1), "a chunk that ends inside a record"}}) {
+    write_file(path, preamble + record + chunk_of(content));
+    EXPECT_EQ(read_states(path, &damage).size(), 1u) << reason;  // the plain record only
+    ASSERT_TRUE(damage) << reason;
+    EXPECT_EQ(damage->offset, preamble.size() + record.size()) << reason;
+    EXPECT_EQ(damage->reason.rfind(reason, 0), 0u) << damage->reason;
+  }
+  // Not zstd at all, and a chunk flag in format 1 (an implausible length there, as it always was).
+  write_file(path, preamble + record + frame("not zstd", true));
+  EXPECT_EQ(read_states(path, &damage).size(), 1u);
+  ASSERT_TRUE(damage);
+  EXPECT_EQ(damage->reason, "a chunk that is not a zstd frame");
+  write_file(path, std::string("RIGIDLOG") + u32(1) + record + chunk_of(record));
+  EXPECT_EQ(read_states(path, &damage).size(), 1u);
+  ASSERT_TRUE(damage);
+  EXPECT_NE(damage->reason.find("implausible record length"), std::string::npos) << damage->reason;
+}
+
+TEST(RecordFileChunks, RecordsThatWouldNotShrinkAreWrittenAsPlainFrames) {
+  TestDir dir;
+  const std::string path = dir.file("noise.rlog");
+  // States of random doubles, each flushed alone: zstd cannot shrink random bits.
+  {
+    common::RecordWriter w(path, true, zstd());
+    std::uint64_t x = 88172645463325252ull;
+    msgs::LogRecord r;
+    for (int i = 0; i < 5; ++i) {
+      rigid::StateFrame f = sample_state(i, 4);
+      for (std::vector<double>* v :
+           {&f.position, &f.orientation, &f.linear_velocity, &f.angular_velocity}) {
+        for (double& value : *v) {
+          x ^= x << 13, x ^= x >> 7, x ^= x << 17;  // xorshift64
+          std::uint64_t bits = (x >> 12) | 0x3FF0000000000000ull;
+          std::memcpy(&value, &bits, sizeof bits);
+        }
+      }
+      common::to_record(f, i, *r.mutable_state());
+      w.append(r);
+      w.flush();
+    }
+    EXPECT_EQ(w.bytes(), w.record_bytes() + common::kLogPreambleBytes);
+  }
+  std::optional<common::Damage> damage;
+  std::int64_t chunks = -1;
+  EXPECT_EQ(read_states(path, &damage, &chunks).size(), 5u);
+  EXPECT_FALSE(damage);
+  EXPECT_EQ(chunks, 0);
 }
 
 TEST(StateHash, EqualStatesHashEquallyAndAnyChangedValueChangesIt) {

@@ -1,4 +1,5 @@
-// libFuzzer target: any bytes as a log file (recording or journal) read by common::RecordReader,
+// libFuzzer target: any bytes as a log file (recording or journal; format 1, or 2 with zstd
+// chunks) read by common::RecordReader,
 // as rigid-record info/export/play and rigid-sim --replay read them. The reader must refuse the
 // file with a LogFileError or read records until the end or a damaged tail, never crash; its
 // offsets must add up (every byte is either read or reported as damaged); and each record that
@@ -35,14 +36,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   rigid::msgs::LogRecord record;
   std::uint64_t offset = reader->offset();
   std::int64_t records = 0;
+  // A record frame moves the reader on; the records of a chunk leave it at the chunk's start until
+  // the last, which moves it past the chunk.
   while (reader->next(record)) {
-    require(
-        reader->offset() >= offset + rigid::common::kFrameHeaderBytes && reader->offset() <= size,
-        "each record moves the reader on, within the file");
+    require(reader->offset() == offset ||
+                (reader->offset() >= offset + rigid::common::kFrameHeaderBytes &&
+                 reader->offset() <= size),
+            "each record leaves the reader where it was (in a chunk) or moves it on, within the "
+            "file");
     offset = reader->offset();
     ++records;
     rigid::fuzz::check_record(record);
   }
+  require(reader->chunk_record_bytes() <=
+              static_cast<std::uint64_t>(reader->chunks()) * rigid::common::kMaxChunkBytes,
+          "no chunk held more than a reader may hold");
   require(reader->records() == records, "the reader counts the records it returned");
   require(!reader->next(record), "the reader stays at the end");
   if (const auto& damage = reader->damage()) {

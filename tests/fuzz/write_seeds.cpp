@@ -248,6 +248,18 @@ void write_logs(const fs::path& dir) {
   const std::string bytes = read_all(whole);
   write(dir / "record_file" / "cut_short.rlog",
         std::string_view(bytes).substr(0, bytes.size() / 2));
+  // Format 2: the same records in zstd chunks (two: a flush after the header).
+  const fs::path chunked = dir / "record_file" / "recording_zstd.rlog";
+  {
+    common::Compression zstd;
+    zstd.zstd = true;
+    common::RecordWriter writer(chunked.string(), /*overwrite=*/true, zstd);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      writer.append(all[i]);
+      if (i == 0) writer.flush();
+    }
+    writer.close();
+  }
   const fs::path empty = dir / "record_file" / "preamble_only.rlog";
   common::RecordWriter(empty.string(), /*overwrite=*/true).close();
 }

@@ -2,16 +2,22 @@
 // indexed reader, protobufjs) and checks it against the recording it came from, given as
 // rigid-record export --csv's rows (17 significant digits: every double round-trips exactly).
 //
-//   node check_mcap.mjs OUT.mcap REFERENCE.csv STATES BODIES
+//   node check_mcap.mjs OUT.mcap REFERENCE.csv STATES BODIES COMPRESSION
+//
+// COMPRESSION: what every chunk must say it is ("zstd", or "none" for MCAP's ""). zstd chunks are
+// decompressed with fzstd (an independent zstd decoder in JavaScript), as a Foxglove-side reader
+// would with its own.
 //
 // Exit status 0: every check passed; 1: a check failed (the first failure is printed).
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { crc32 } from "@foxglove/crc";
+import { decompress } from "fzstd";
 import protobuf from "protobufjs";
 import descriptor from "protobufjs/ext/descriptor/index.js";
 import { open, readFile } from "node:fs/promises";
 
-const [mcapPath, csvPath, statesArg, bodiesArg] = process.argv.slice(2);
+const [mcapPath, csvPath, statesArg, bodiesArg, compressionArg] = process.argv.slice(2);
+const expectedCompression = compressionArg === "none" ? "" : compressionArg;
 const expectedStates = Number(statesArg);
 const expectedBodies = Number(bodiesArg);
 
@@ -48,9 +54,25 @@ const readable = {
   },
 };
 
+// zstd chunks: decompressed to the size the chunk states (the readers then check its CRC).
+let decompressed = 0;
+const decompressHandlers = {
+  zstd: (buffer, size) => {
+    const out = decompress(buffer);
+    check(BigInt(out.length) === size, `a zstd chunk of ${out.length} bytes, not ${size}`);
+    ++decompressed;
+    return out;
+  },
+};
+
 // Initialize reads the footer, the summary offsets and the summary, and checks the summary CRC.
-const reader = await McapIndexedReader.Initialize({ readable });
+const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers });
 check(reader.chunkIndexes.length > 0, "no chunk indexes");
+for (const c of reader.chunkIndexes) {
+  check(c.compression === expectedCompression, `a chunk compressed '${c.compression}'`);
+  if (c.compression === "") check(c.compressedSize === c.uncompressedSize, "an uncompressed chunk's sizes differ");
+  else check(c.compressedSize < c.uncompressedSize, "a compressed chunk no smaller than its records");
+}
 check(reader.statistics !== undefined, "no Statistics record");
 check(reader.footer.summaryCrc !== 0, "no summary CRC");
 check(reader.dataSectionCrc !== undefined && reader.dataSectionCrc !== 0, "no data section CRC");
@@ -65,7 +87,7 @@ check(crc32(whole.subarray(0, dataEnd)) === reader.dataSectionCrc, "data section
 // The stream reader walks every record from the start, checking chunk CRCs and the record
 // structure the index does not cover (message indexes, DataEnd, summary offsets, footer).
 {
-  const stream = new McapStreamReader({ validateCrcs: true });
+  const stream = new McapStreamReader({ validateCrcs: true, decompressHandlers });
   stream.append(whole);
   let records = 0;
   let messageIndexes = 0;
@@ -158,8 +180,9 @@ for (const [id, n] of reader.statistics.channelMessageCounts) {
   total += n;
 }
 check(total === reader.statistics.messageCount, "Statistics: message count");
+check((decompressed > 0) === (expectedCompression === "zstd"), `${decompressed} zstd chunks decompressed`);
 await handle.close();
 console.log(
-  `check_mcap: ok: ${reader.chunkIndexes.length} chunks, ${total} messages, ${expectedStates} states of ` +
+  `check_mcap: ok: ${reader.chunkIndexes.length} chunks ('${expectedCompression}'), ${total} messages, ${expectedStates} states of ` +
     `${expectedBodies} bodies bit for bit, ${updates} scene updates, ${types.size} schemas decoded`,
 );

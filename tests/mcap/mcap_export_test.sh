@@ -4,7 +4,8 @@
 # (tests/support/synthetic_recording: every shape kind, edge-case doubles), exported to CSV (the
 # reference: 17 significant digits round-trip every double) and to MCAP, and the MCAP is read
 # back: index, summary and every CRC valid, every state there, poses bit for bit, every message
-# decoded from its embedded schema. Then the refusals: an existing OUT without --force, a journal.
+# decoded from its embedded schema; its chunks zstd-compressed (fzstd decompresses them), and
+# uncompressed with --compress none. Then the refusals: an existing OUT without --force, a journal.
 #
 #   mcap_export_test.sh RIGID_RECORD SYNTHETIC_RECORDING
 #
@@ -20,7 +21,8 @@ if ! command -v node > /dev/null; then
   echo "mcap_export_test: FAILED: node is not installed (apt-get install nodejs npm)"
   exit 1
 fi
-if [[ ! -f $here/node_modules/@mcap/core/package.json || ! -f $here/node_modules/protobufjs/package.json ]]; then
+if [[ ! -f $here/node_modules/@mcap/core/package.json || ! -f $here/node_modules/protobufjs/package.json ||
+      ! -f $here/node_modules/fzstd/package.json ]]; then
   # --ignore-scripts: nothing from the registry runs at install.
   if ! (cd "$here" && timeout 300 npm ci --ignore-scripts --no-audit --no-fund > /dev/null); then
     echo "mcap_export_test: FAILED: tests/mcap/node_modules missing and npm ci failed (offline?)"
@@ -42,7 +44,11 @@ info_states=$("$record" info "$dir/rec.rlog" | sed -n 's/^records: \([0-9]*\) st
 "$record" export "$dir/rec.rlog" --csv "$dir/rec.csv" > /dev/null
 out=$("$record" export "$dir/rec.rlog" --mcap "$dir/rec.mcap")
 [[ $out == "$dir/rec.mcap: $states states from $dir/rec.rlog" ]] || fail "export said: $out"
-timeout 120 node "$here/check_mcap.mjs" "$dir/rec.mcap" "$dir/rec.csv" "$info_states" "$bodies"
+timeout 120 node "$here/check_mcap.mjs" "$dir/rec.mcap" "$dir/rec.csv" "$info_states" "$bodies" zstd
+# Uncompressed chunks on request, read the same.
+"$record" export "$dir/rec.rlog" --mcap "$dir/plain.mcap" --compress none > /dev/null
+timeout 120 node "$here/check_mcap.mjs" "$dir/plain.mcap" "$dir/rec.csv" "$info_states" "$bodies" none
+(( $(stat -c %s "$dir/rec.mcap") < $(stat -c %s "$dir/plain.mcap") )) || fail "zstd chunks no smaller"
 
 # An existing OUT is refused (exit 1, one line) and left as it was; --force replaces it.
 before=$(cksum < "$dir/rec.mcap")

@@ -190,6 +190,27 @@ TEST_F(ViewServerTest, AWebSocketFromAnotherOriginIsRefusedWith403) {
   EXPECT_EQ(server_->counts().connections_refused.load(), 2);
 }
 
+// --listen localhost:PORT: the name is resolved to its (IPv4) loopback address, where a page
+// connects; that address is not beyond the host (no warning).
+TEST_F(ViewServerTest, AHostNameIsResolvedAndServed) {
+  ServerOptions options;
+  options.host = "localhost";
+  start(options);
+  EXPECT_EQ(server_->address(), "127.0.0.1");
+  EXPECT_FALSE(server_->listens_beyond_host());
+  EXPECT_TRUE(page());
+  ServerOptions nowhere;
+  nowhere.host = "no-such-host.invalid";  // RFC 2606: never resolves
+  nowhere.web_dir = web_.path();
+  try {
+    ViewServer s(nowhere, nullptr, nullptr);
+    ADD_FAILURE() << "bound a name that does not resolve";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--listen: cannot resolve no-such-host.invalid: ", 0), 0u)
+        << e.what();
+  }
+}
+
 TEST_F(ViewServerTest, AtMost16PagesAtOnce) {
   start();
   ASSERT_EQ(ServerOptions{}.max_pages, 16u);  // rigid-view's default, the README's figure
