@@ -13,6 +13,7 @@
 #include "foxglove_protocol.hpp"
 #include "fuzz_require.hpp"
 #include "json_value.hpp"
+#include "protocol.hpp"
 
 namespace {
 
