@@ -263,6 +263,8 @@ std::variant<PushRequest, std::string> parse_push(std::string_view json) {
   PushRequest p;
   bool have_body = false, have_force = false, have_duration = false;
   for (const auto& [key, v] : j.fields) {  // (JsonField: key, value)
+    // One value per field: with "body" given both as a name and as an id, which one is meant?
+    if (j.get(key) != &v) return where + key.substr(0, 40) + ": given twice";
     if (key == "body") {
       if (v.kind == Json::Kind::kString && !v.text.empty() && v.text.size() <= 256) {
         p.body_name = v.text;

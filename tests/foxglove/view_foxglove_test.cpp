@@ -119,6 +119,8 @@ TEST(FoxgloveProtocol, ParsesClientBinaryAndPush) {
       {R"({"body":"b","force":[0,0,1],"duration":10.5})", "duration:"},
       {R"({"body":"b","force":[0,0,1],"duration":1,"point":[0,0,101]})", "point:"},
       {R"({"body":"b","force":[0,0,1],"duration":1,"ttl":1})", "unknown field ttl"},
+      {R"({"body":"b","body":3,"force":[0,0,1],"duration":1})", "body: given twice"},
+      {R"({"body":"b","force":[0,0,1],"duration":1,"duration":2})", "duration: given twice"},
       {"not json", "JSON:"},
   };
   for (const auto& [text, why] : bad) {
