@@ -141,6 +141,7 @@ void add_shape(const SceneDescription& scene, std::size_t i, ::foxglove::SceneEn
       }
       return;
     }
+    case ShapeKind::kPlane:  // static parts only: no body has it
     case ShapeKind::kNone:
       break;
   }

@@ -93,6 +93,15 @@ void to_record(const rigid::SceneDescription& in, std::int64_t recorded_ns,
   for (const rigid::ShapeKind k : in.shape_kinds)
     out.add_shape_kinds(static_cast<std::int32_t>(k));
   put(in.shape_dims, out.mutable_shape_dims());
+  out.mutable_part_names()->Assign(in.part_names.begin(), in.part_names.end());
+  out.clear_part_kinds();
+  for (const rigid::ShapeKind k : in.part_kinds)
+    out.add_part_kinds(static_cast<std::int32_t>(k));
+  put(in.part_position, out.mutable_part_position());
+  put(in.part_orientation, out.mutable_part_orientation());
+  put(in.part_dims, out.mutable_part_dims());
+  put(in.part_restitution, out.mutable_part_restitution());
+  put(in.part_friction, out.mutable_part_friction());
   out.set_recorded_ns(recorded_ns);
 }
 
@@ -116,6 +125,15 @@ bool from_record(const msgs::SceneRecord& in, rigid::SceneDescription& out) {
   std::transform(in.shape_kinds().begin(), in.shape_kinds().end(), out.shape_kinds.begin(),
                  [](std::int32_t k) { return static_cast<rigid::ShapeKind>(k); });
   get(in.shape_dims(), out.shape_dims);
+  out.part_names.assign(in.part_names().begin(), in.part_names().end());
+  out.part_kinds.resize(static_cast<std::size_t>(in.part_kinds_size()));
+  std::transform(in.part_kinds().begin(), in.part_kinds().end(), out.part_kinds.begin(),
+                 [](std::int32_t k) { return static_cast<rigid::ShapeKind>(k); });
+  get(in.part_position(), out.part_position);
+  get(in.part_orientation(), out.part_orientation);
+  get(in.part_dims(), out.part_dims);
+  get(in.part_restitution(), out.part_restitution);
+  get(in.part_friction(), out.part_friction);
   return out.lengths_agree();
 }
 
@@ -217,6 +235,40 @@ void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out) {
   out.steps = in.steps();
   out.rtf = in.rtf();
   out.stamp_ns = in.stamp_ns();
+}
+
+void to_record(const rigid::ContactEvents& in, std::int64_t recorded_ns, msgs::ContactRecord& out) {
+  out.set_tick(in.tick);
+  out.set_sim_time(in.sim_time);
+  out.set_stamp_ns(in.stamp_ns);
+  out.set_dropped(in.dropped);
+  out.clear_kinds();
+  for (const rigid::ContactKind k : in.kinds)
+    out.add_kinds(static_cast<std::int32_t>(k));
+  put(in.bodies, out.mutable_bodies());
+  put(in.parts, out.mutable_parts());
+  put(in.times, out.mutable_times());
+  put(in.position, out.mutable_position());
+  put(in.normal, out.mutable_normal());
+  put(in.impulse, out.mutable_impulse());
+  out.set_recorded_ns(recorded_ns);
+}
+
+bool from_record(const msgs::ContactRecord& in, rigid::ContactEvents& out) {
+  out.tick = in.tick();
+  out.sim_time = in.sim_time();
+  out.stamp_ns = in.stamp_ns();
+  out.dropped = in.dropped();
+  out.kinds.resize(static_cast<std::size_t>(in.kinds_size()));
+  std::transform(in.kinds().begin(), in.kinds().end(), out.kinds.begin(),
+                 [](std::int32_t k) { return static_cast<rigid::ContactKind>(k); });
+  get(in.bodies(), out.bodies);
+  get(in.parts(), out.parts);
+  get(in.times(), out.times);
+  get(in.position(), out.position);
+  get(in.normal(), out.normal);
+  get(in.impulse(), out.impulse);
+  return out.lengths_agree() && out.event_count() <= rigid::kMaxContactEvents;
 }
 
 }  // namespace rigid::common

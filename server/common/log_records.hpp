@@ -16,11 +16,15 @@ void to_record(const rigid::SceneDescription& in, std::int64_t recorded_ns, msgs
 void to_record(const rigid::StatsReport& in, std::int64_t recorded_ns, msgs::StatsRecord& out);
 void to_record(const rigid::AcceptedCommand& in, std::int64_t recorded_ns,
                msgs::CommandRecord& out);
+void to_record(const rigid::ContactEvents& in, std::int64_t recorded_ns, msgs::ContactRecord& out);
 
 // false: the record's per-body arrays disagree with its body count (`out` is then unspecified).
 bool from_record(const msgs::StateRecord& in, rigid::StateFrame& out);
 bool from_record(const msgs::SceneRecord& in, rigid::SceneDescription& out);
 void from_record(const msgs::StatsRecord& in, rigid::StatsReport& out);
 void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out);
+// false: the record's per-event arrays disagree with its event count, or it holds more than
+// rigid::kMaxContactEvents.
+bool from_record(const msgs::ContactRecord& in, rigid::ContactEvents& out);
 
 }  // namespace rigid::common

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "physics/math.hpp"
+
 namespace rigid::common {
 
 void shape_state_frame(const physics::World& world, rigid::StateFrame& frame) {
@@ -80,6 +82,26 @@ rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics:
     const physics::Vec3 dims = shape ? shape_dims(*shape) : physics::Vec3::Zero();
     d.shape_dims.insert(d.shape_dims.end(), {dims.x(), dims.y(), dims.z()});
   }
+  const auto add_part = [&d](const std::string& name, rigid::ShapeKind kind,
+                             const physics::Vec3& p_WS, const physics::Quat& q_WS,
+                             const physics::Vec3& dims, const physics::Surface& surface) {
+    d.part_names.push_back(name);
+    d.part_kinds.push_back(kind);
+    d.part_position.insert(d.part_position.end(), {p_WS.x(), p_WS.y(), p_WS.z()});
+    d.part_orientation.insert(d.part_orientation.end(), {q_WS.w(), q_WS.x(), q_WS.y(), q_WS.z()});
+    d.part_dims.insert(d.part_dims.end(), {dims.x(), dims.y(), dims.z()});
+    d.part_restitution.push_back(surface.restitution);
+    d.part_friction.push_back(surface.friction);
+  };
+  // A plane n . x <= offset as the plane z = 0 of its frame S: S's origin the plane's point
+  // nearest W's origin, its z axis n (the shortest turn of W's z onto n; about x for n = -z).
+  for (const physics::PlaneSpec& p : spec.planes) {
+    const physics::Quat q_WS = physics::Quat::FromTwoVectors(physics::Vec3::UnitZ(), p.n_W);
+    add_part(p.name, rigid::ShapeKind::kPlane, p.offset * p.n_W, q_WS, physics::Vec3::Zero(),
+             p.surface);
+  }
+  for (const physics::StaticSpec& s : spec.statics)
+    add_part(s.name, shape_kind(s.shape.kind), s.p_WS, s.q_WS, shape_dims(s.shape), s.surface);
   return d;
 }
 

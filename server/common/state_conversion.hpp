@@ -25,8 +25,9 @@ rigid::ShapeKind shape_kind(physics::ShapeKind k);
 physics::Vec3 shape_dims(const physics::Shape& s);
 
 // The scene as the SceneInfo message: ids, names, masses, inertia tensors in B (zero for a point
-// mass) and shapes (SHAPE_NONE when the file gave the inertia directly), the tick period and the
-// integrator the world runs.
+// mass) and shapes (SHAPE_NONE when the file gave the inertia directly), the static parts (planes,
+// then static shapes: name, kind, pose, dims, material), the tick period and the integrator the
+// world runs.
 rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world);
 
 }  // namespace rigid::common

@@ -40,6 +40,7 @@ class Codec {
   std::span<const std::uint8_t> encode(const StatsReport& message);
   std::span<const std::uint8_t> encode(const SceneDescription& message);
   std::span<const std::uint8_t> encode(const AcceptedCommand& message);
+  std::span<const std::uint8_t> encode(const ContactEvents& message);
 
   // Fills `out` (reusing its storage) and returns kOk, or returns why not; `out` is then
   // unspecified but valid. Never throws or crashes on bad input.
@@ -50,6 +51,7 @@ class Codec {
   DecodeStatus decode(std::span<const std::uint8_t> bytes, StatsReport& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, SceneDescription& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, AcceptedCommand& out);
+  DecodeStatus decode(std::span<const std::uint8_t> bytes, ContactEvents& out);
 
  private:
   std::unique_ptr<CodecBuffers<B>> buffers_;

@@ -42,6 +42,11 @@ std::span<const std::uint8_t> Codec<B>::encode(const AcceptedCommand& message) {
 }
 
 template <Bus B>
+std::span<const std::uint8_t> Codec<B>::encode(const ContactEvents& message) {
+  return buffers_->encode(message);
+}
+
+template <Bus B>
 DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, StateFrame& out) {
   return buffers_->decode(bytes, out);
 }
@@ -67,6 +72,10 @@ DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, SceneDescript
 }
 template <Bus B>
 DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, AcceptedCommand& out) {
+  return buffers_->decode(bytes, out);
+}
+template <Bus B>
+DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, ContactEvents& out) {
   return buffers_->decode(bytes, out);
 }
 

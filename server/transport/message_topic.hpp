@@ -8,7 +8,7 @@
 namespace rigid::transport {
 
 template <class Message>
-struct TopicOf;  // defined for the seven messages only
+struct TopicOf;  // defined for the eight messages only
 template <>
 struct TopicOf<StateFrame> {
   static constexpr Topic value = Topic::kState;
@@ -36,6 +36,10 @@ struct TopicOf<SceneDescription> {
 template <>
 struct TopicOf<AcceptedCommand> {
   static constexpr Topic value = Topic::kAccepted;
+};
+template <>
+struct TopicOf<ContactEvents> {
+  static constexpr Topic value = Topic::kContacts;
 };
 
 // The server publishes everything but the commands; clients publish only the commands.

@@ -19,11 +19,12 @@ enum class Topic : std::uint8_t {
   kStats,
   kScene,
   kAccepted,
+  kContacts,
 };
 
-inline constexpr std::array<Topic, 7> kAllTopics{
+inline constexpr std::array<Topic, 8> kAllTopics{
     Topic::kState, Topic::kWrench, Topic::kControl,  Topic::kControlReply,
-    Topic::kStats, Topic::kScene,  Topic::kAccepted,
+    Topic::kStats, Topic::kScene,  Topic::kAccepted, Topic::kContacts,
 };
 
 inline constexpr std::size_t index_of(Topic topic) {

@@ -13,8 +13,9 @@
 
 namespace rigid::transport {
 
-// Which end of the conversation a transport is. The server publishes state, stats, scene and
-// control replies and receives wrenches and controls; a client does the opposite.
+// Which end of the conversation a transport is. The server publishes state, stats, scene, contact
+// events, accepted commands and control replies and receives wrenches and controls; a client does
+// the opposite.
 enum class Role : std::uint8_t { kServer, kClient };
 
 // Who sent a command, as far as its bus can tell. Only valid during the callback.
@@ -47,6 +48,7 @@ class Receiver {
   virtual void on_scene(const SceneDescription& /*scene*/) {}
   virtual void on_control_reply(const ControlReply& /*reply*/) {}
   virtual void on_accepted(const AcceptedCommand& /*accepted*/) {}
+  virtual void on_contacts(const ContactEvents& /*contacts*/) {}
   // Either role: a payload that did not decode. Never fatal; count it.
   virtual void on_decode_error(const DecodeError& /*error*/) {}
 };
@@ -83,6 +85,10 @@ class Transport {
   virtual PublishResult publish(const ControlReply& reply) = 0;
   // Not pure, so that a stand-in transport (a test's) need not carry this topic: it then refuses.
   virtual PublishResult publish(const AcceptedCommand& /*accepted*/) {
+    return PublishResult::kWrongRole;
+  }
+  // Not pure either, for the same reason.
+  virtual PublishResult publish(const ContactEvents& /*contacts*/) {
     return PublishResult::kWrongRole;
   }
   // Sends the scene last published again, for subscribers that joined since: LCM has no

@@ -7,9 +7,10 @@
 // fields(io, plain, wire, n) visits every field: io(plain_field, wire_field) copies one value,
 // io.array(plain_vector, wire_sequence, count) a per-body array of `count` elements, and
 // io.column(plain_vector, member, wire_sequence, count) one member of each element of a vector
-// of structs. n is the message's row count (bodies; refused sources for StatsReport), which the
-// bus adapter checked against its lengths before decoding. The count fields only LCM has
-// (num_bodies, ...) are the LCM adapter's to set and check.
+// of structs. n is the message's row count (bodies; refused sources for StatsReport; events for
+// ContactEvents; bodies and static parts for SceneDescription: SceneRows), which the bus adapter
+// checked against its lengths before decoding. The count fields only LCM has (num_bodies, ...) are
+// the LCM adapter's to set and check.
 //
 // Adding a field: add it to the message (messages.hpp), to msgs/rigid.idl and msgs/rigid.lcm under
 // the same name, and to its list here. Adding a message: its list here, then one entry per bus
@@ -205,6 +206,22 @@ class Decoder {
   }
 };
 
+// The rows of a SceneDescription: it has two kinds, bodies and static parts.
+struct SceneRows {
+  std::size_t bodies = 0;
+  std::size_t parts = 0;
+};
+
+// The type of a message's row count.
+template <class P>
+struct RowsOf {
+  using type = std::size_t;
+};
+template <>
+struct RowsOf<SceneDescription> {
+  using type = SceneRows;
+};
+
 // ---- The field lists. ----
 
 template <class IO, class P, class W>
@@ -309,7 +326,9 @@ void fields(IO& io, P& m, W& w, std::size_t n) {
 }
 
 template <class IO, Is<SceneDescription> P, class W>
-void fields(IO& io, P& m, W& w, std::size_t n) {
+void fields(IO& io, P& m, W& w, const SceneRows& rows) {
+  const std::size_t n = rows.bodies;
+  const std::size_t parts = rows.parts;
   io(m.scene_name, w.scene_name);
   io(m.dt, w.dt);
   io(m.substeps, w.substeps);
@@ -327,6 +346,29 @@ void fields(IO& io, P& m, W& w, std::size_t n) {
   io.array(m.inertia, w.inertia, 6 * n);
   io.array(m.shape_kinds, w.shape_kinds, n);
   io.array(m.shape_dims, w.shape_dims, 3 * n);
+  io.array(m.part_names, w.part_names, parts);
+  io.array(m.part_kinds, w.part_kinds, parts);
+  io.array(m.part_position, w.part_position, 3 * parts);
+  io.array(m.part_orientation, w.part_orientation, 4 * parts);
+  io.array(m.part_dims, w.part_dims, 3 * parts);
+  io.array(m.part_restitution, w.part_restitution, parts);
+  io.array(m.part_friction, w.part_friction, parts);
+}
+
+// n: the number of events.
+template <class IO, Is<ContactEvents> P, class W>
+void fields(IO& io, P& m, W& w, std::size_t n) {
+  io(m.tick, w.tick);
+  io(m.sim_time, w.sim_time);
+  io(m.stamp_ns, w.stamp_ns);
+  io(m.dropped, w.dropped);
+  io.array(m.kinds, w.kinds, n);
+  io.array(m.bodies, w.bodies, n);
+  io.array(m.parts, w.parts, n);
+  io.array(m.times, w.times, n);
+  io.array(m.position, w.position, 3 * n);
+  io.array(m.normal, w.normal, 3 * n);
+  io.array(m.impulse, w.impulse, 3 * n);
 }
 
 template <class IO, Is<AcceptedCommand> P, class W>
@@ -351,9 +393,13 @@ inline bool rows(const StateFrame& m, std::size_t& n) {
   n = m.body_count();
   return m.lengths_agree() && n <= kMaxBodies;
 }
-inline bool rows(const SceneDescription& m, std::size_t& n) {
-  n = m.body_count();
-  return m.lengths_agree() && n <= kMaxBodies;
+inline bool rows(const SceneDescription& m, SceneRows& n) {
+  n = {m.body_count(), m.part_count()};
+  return m.lengths_agree() && n.bodies <= kMaxBodies && n.parts <= kMaxParts;
+}
+inline bool rows(const ContactEvents& m, std::size_t& n) {
+  n = m.event_count();
+  return m.lengths_agree() && n <= kMaxContactEvents;
 }
 inline bool rows(const StatsReport& m, std::size_t& n) {
   n = m.refused_by_source.size();
@@ -365,15 +411,15 @@ bool rows(const P& /*m*/, std::size_t& n) {
   return true;
 }
 
-template <class P, class W>
-bool encode(const P& m, W& w, std::size_t n, Scratch* scratch = nullptr) {
+template <class P, class W, class N>
+bool encode(const P& m, W& w, const N& n, Scratch* scratch = nullptr) {
   Encoder io(scratch);
   fields(io, m, w, n);
   return io.ok;
 }
 
-template <class W, class P>
-void decode(const W& w, P& m, std::size_t n) {
+template <class W, class P, class N>
+void decode(const W& w, P& m, const N& n) {
   Decoder io;
   fields(io, m, w, n);
 }

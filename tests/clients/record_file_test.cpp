@@ -152,6 +152,78 @@ TEST(RecordFile, StatsRecordsKeepEveryField) {
   EXPECT_EQ(back, s);
 }
 
+// A distinct value in every field of a tick's contact events, through the record's bytes and back.
+TEST(RecordFile, ContactRecordsKeepEveryField) {
+  rigid::ContactEvents c;
+  c.tick = 41;
+  c.sim_time = 0.041;
+  c.stamp_ns = 1'700'000'000'123'456'789;
+  c.dropped = 3;
+  c.resize(2);
+  c.kinds = {rigid::ContactKind::kImpact, rigid::ContactKind::kSeparate};
+  c.bodies = {4, 5};
+  c.parts = {0, 2};
+  c.times = {0.0405, std::nextafter(0.041, 0.0)};
+  for (std::size_t k = 0; k < 6; ++k) {
+    c.position[k] = 1.0 + static_cast<double>(k) / 7.0;
+    c.normal[k] = -0.5 * static_cast<double>(k);
+    c.impulse[k] = 1e-300 * static_cast<double>(k + 1);
+  }
+  msgs::ContactRecord record;
+  common::to_record(c, 77, record);
+  msgs::ContactRecord parsed;
+  ASSERT_TRUE(parsed.ParseFromString(record.SerializeAsString()));
+  EXPECT_EQ(parsed.recorded_ns(), 77);
+  rigid::ContactEvents back;
+  ASSERT_TRUE(common::from_record(parsed, back));
+  EXPECT_EQ(back, c);
+  // Per-event arrays that disagree are refused, and so are more events than a message carries.
+  parsed.mutable_normal()->RemoveLast();
+  EXPECT_FALSE(common::from_record(parsed, back));
+  msgs::ContactRecord big;
+  for (std::size_t i = 0; i <= rigid::kMaxContactEvents; ++i) {
+    big.add_kinds(1);
+    big.add_bodies(0);
+    big.add_parts(0);
+    big.add_times(0.0);
+    for (int k = 0; k < 3; ++k) {
+      big.add_position(0.0);
+      big.add_normal(0.0);
+      big.add_impulse(0.0);
+    }
+  }
+  EXPECT_FALSE(common::from_record(big, back));
+}
+
+// A scene's static parts, through a SceneRecord and back.
+TEST(RecordFile, SceneRecordsKeepTheStaticParts) {
+  rigid::SceneDescription d;
+  d.scene_name = "s";
+  d.ids = {0};
+  d.names = {"ball"};
+  d.masses = {1.5};
+  d.inertia = {1, 2, 3, 4, 5, 6};
+  d.shape_kinds = {rigid::ShapeKind::kSphere};
+  d.shape_dims = {0.1, 0, 0};
+  d.part_names = {"ground", "ramp"};
+  d.part_kinds = {rigid::ShapeKind::kPlane, rigid::ShapeKind::kBox};
+  d.part_position = {0, 0, -1, 1, 2, 3};
+  d.part_orientation = {1, 0, 0, 0, 0.8, 0, 0.6, 0};
+  d.part_dims = {0, 0, 0, 2, 1, 0.1};
+  d.part_restitution = {0.5, 0.25};
+  d.part_friction = {0.75, 0.2};
+  ASSERT_TRUE(d.lengths_agree());
+  msgs::SceneRecord record;
+  common::to_record(d, 5, record);
+  msgs::SceneRecord parsed;
+  ASSERT_TRUE(parsed.ParseFromString(record.SerializeAsString()));
+  rigid::SceneDescription back;
+  ASSERT_TRUE(common::from_record(parsed, back));
+  EXPECT_EQ(back, d);
+  parsed.mutable_part_friction()->RemoveLast();
+  EXPECT_FALSE(common::from_record(parsed, back));
+}
+
 TEST(RecordFile, AFileCutAtAnyByteReadsEveryCompleteRecordAndReportsTheTail) {
   // What a writer killed mid-write leaves: every prefix of a valid file.
   TestDir dir;

@@ -33,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   rigid::ControlCommand control;
   if (fuzz::decode_checked(f.codec, bytes, control)) f.contract.check(control);
 
-  // The types clients receive (rigidctl, rigid-record, controllers).
+  // The types clients receive (rigidctl, rigid-record, rigid-view, controllers).
   rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);
   rigid::ControlReply reply;
@@ -44,5 +44,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::decode_checked(f.codec, bytes, scene);
   rigid::AcceptedCommand accepted;
   fuzz::decode_checked(f.codec, bytes, accepted);
+  rigid::ContactEvents contacts;
+  if (fuzz::decode_checked(f.codec, bytes, contacts)) {
+    fuzz::require(contacts.event_count() <= rigid::kMaxContactEvents,
+                  "a decoded ContactEvents holds at most kMaxContactEvents events");
+  }
   return 0;
 }

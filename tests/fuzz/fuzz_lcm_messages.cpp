@@ -43,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   "lcm-gen's decoder and our layout check agree on Control");
   }
 
-  // The types clients receive (rigidctl, rigid-record, controllers).
+  // The types clients receive (rigidctl, rigid-record, rigid-view, controllers).
   rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);
   rigid::ControlReply reply;
@@ -54,5 +54,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::decode_checked(f.codec, bytes, scene);
   rigid::AcceptedCommand accepted;
   fuzz::decode_checked(f.codec, bytes, accepted);
+  rigid::ContactEvents contacts;
+  if (fuzz::decode_checked(f.codec, bytes, contacts)) {
+    fuzz::require(contacts.event_count() <= rigid::kMaxContactEvents,
+                  "a decoded ContactEvents holds at most kMaxContactEvents events");
+  }
   return 0;
 }

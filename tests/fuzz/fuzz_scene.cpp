@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fuzz_require.hpp"
 #include "physics/world.hpp"
@@ -49,6 +50,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   require(
       scene.limits.max_force > 0.0 && scene.limits.max_torque > 0.0 && scene.limits.max_ttl > 0.0,
       "limits are positive");
+  // Static parts and materials (contacts): every surface within its bounds, planes with unit
+  // normals, part names unique and none a body's.
+  const auto surface_ok = [](const rigid::physics::Surface& s) {
+    return s.restitution >= 0.0 && s.restitution <= 1.0 && s.friction >= 0.0 &&
+           std::isfinite(s.friction);
+  };
+  std::vector<std::string> names;
+  for (const rigid::physics::BodySpec& b : scene.world.bodies) {
+    require(surface_ok(b.surface), "a body's material is in bounds");
+    names.push_back(b.name);
+  }
+  for (const rigid::physics::PlaneSpec& p : scene.world.planes) {
+    require(surface_ok(p.surface), "a plane's material is in bounds");
+    require(std::abs(p.n_W.norm() - 1.0) < 1e-12 && std::isfinite(p.offset),
+            "a plane's normal is a unit vector and its offset finite");
+    names.push_back(p.name);
+  }
+  for (const rigid::physics::StaticSpec& s : scene.world.statics) {
+    require(surface_ok(s.surface), "a static shape's material is in bounds");
+    require(s.shape.kind != rigid::physics::ShapeKind::kEllipsoid,
+            "a static shape is a box, sphere, capsule or cylinder");
+    names.push_back(s.name);
+  }
+  std::sort(names.begin(), names.end());
+  require(std::adjacent_find(names.begin(), names.end()) == names.end(),
+          "names are unique among bodies and static parts");
   for (const std::string& w : scene.warnings) {
     require(one_line_about_the_file(w), "a warning is one line naming the file");
   }

@@ -60,7 +60,11 @@ inline void check_record(const msgs::LogRecord& record) {
     case msgs::LogRecord::kCommand:
       check_conversion<rigid::AcceptedCommand>(record.command());
       break;
+    case msgs::LogRecord::kContacts:
+      check_conversion<rigid::ContactEvents>(record.contacts());
+      break;
     case msgs::LogRecord::kStateHash:
+    case msgs::LogRecord::kContactHash:
     case msgs::LogRecord::kGap:
     case msgs::LogRecord::kEnd:
     case msgs::LogRecord::RECORD_NOT_SET:

@@ -130,7 +130,31 @@ rigid::SceneDescription scene() {
   d.inertia = {0.09, 0.07, 0.03, 0.0, 0.0, 0.0, 0.017, 0.017, 0.017, 0.0, 0.0, 0.0};
   d.shape_kinds = {rigid::ShapeKind::kBox, rigid::ShapeKind::kSphere};
   d.shape_dims = {0.1, 0.25, 0.4, 0.1, 0.0, 0.0};
+  d.part_names = {"ground", "ramp"};
+  d.part_kinds = {rigid::ShapeKind::kPlane, rigid::ShapeKind::kBox};
+  d.part_position = {0.0, 0.0, 0.0, 1.0, 0.0, 0.3};
+  d.part_orientation = {1.0, 0.0, 0.0, 0.0, 0.966, 0.0, 0.259, 0.0};
+  d.part_dims = {0.0, 0.0, 0.0, 2.0, 1.0, 0.1};
+  d.part_restitution = {0.5, 0.0};
+  d.part_friction = {0.8, 0.3};
   return d;
+}
+
+rigid::ContactEvents contacts() {
+  rigid::ContactEvents c;
+  c.tick = 1234;
+  c.sim_time = 1.234;
+  c.stamp_ns = 1'700'000'000'000'000'000;
+  c.dropped = 0;
+  c.resize(2);
+  c.kinds = {rigid::ContactKind::kImpact, rigid::ContactKind::kResting};
+  c.bodies = {1, 0};
+  c.parts = {0, 1};
+  c.times = {1.2335, 1.234};
+  c.position = {0.5, 0.0, 0.0, 1.0, 0.0, 0.35};
+  c.normal = {0.0, 0.0, 1.0, -0.5, 0.0, 0.866};
+  c.impulse = {0.0, 0.1, 2.5, 0.0, 0.0, 0.0};
+  return c;
 }
 
 rigid::AcceptedCommand accepted_wrench() {
@@ -178,6 +202,7 @@ void write_messages(const fs::path& dir) {
   write(dir / "scene", codec.encode(scene()));
   write(dir / "accepted_wrench", codec.encode(accepted_wrench()));
   write(dir / "accepted_control", codec.encode(accepted_control()));
+  write(dir / "contacts", codec.encode(contacts()));
 }
 
 // One record of each kind, in the order a recording or a journal holds them.
@@ -211,6 +236,14 @@ std::vector<msgs::LogRecord> records() {
   common::to_record(accepted_control(), 5'000'000, *r.mutable_command());
   out.push_back(r);
   r.Clear();
+  common::to_record(contacts(), 6'000'000, *r.mutable_contacts());
+  out.push_back(r);
+  r.Clear();
+  r.mutable_contact_hash()->set_tick(1234);
+  r.mutable_contact_hash()->set_hash(0xfedcba9876543210ULL);
+  r.mutable_contact_hash()->set_events(2);
+  out.push_back(r);
+  r.Clear();
   r.mutable_state_hash()->set_tick(1010);
   r.mutable_state_hash()->set_hash(0x0123456789abcdefULL);
   out.push_back(r);
@@ -231,8 +264,9 @@ std::string read_all(const fs::path& path) {
 
 void write_logs(const fs::path& dir) {
   const std::vector<msgs::LogRecord> all = records();
-  static constexpr const char* kNames[] = {"header",  "scene",      "state", "stats", "wrench",
-                                           "control", "state_hash", "gap",   "end"};
+  static constexpr const char* kNames[] = {"header",     "scene",   "state",    "stats",
+                                           "wrench",     "control", "contacts", "contact_hash",
+                                           "state_hash", "gap",     "end"};
   for (std::size_t i = 0; i < all.size(); ++i) {
     write(dir / "log_record" / kNames[i], all[i].SerializeAsString());
   }

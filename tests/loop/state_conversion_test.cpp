@@ -101,6 +101,55 @@ body { name: "plain" mass: 1 inertia { x: 1 y: 1 z: 1 } }
                                                0.2, 0.3, 0, 0, 0}));
 }
 
+// Static parts reach SceneInfo planes first, then shapes, each with its frame S: a plane's origin
+// is its point nearest W's origin and its z axis its unit normal; a shape's pose, dims and material
+// as given (the world's material where it gives none).
+TEST(StateConversion, SceneDescriptionCarriesTheStaticParts) {
+  const scene::Scene s = scene::parse_scene(R"(
+world { material { restitution: 0.25 friction: 0.75 } }
+body { name: "ball" mass: 1 shape { sphere { radius: 0.1 } } }
+static { name: "ramp" shape { box { x: 2 y: 1 z: 0.1 } } position { x: 1 y: 2 z: 3 }
+         orientation { w: 0.8 y: 0.6 } material { friction: 0.2 } }
+static { name: "post" shape { cylinder { radius: 0.3 length: 2 } } }
+plane { name: "ground" normal { z: 1 } offset: -0.5 material { restitution: 0.5 } }
+plane { name: "wall" normal { x: -3 } offset: 2 }
+plane { name: "ceiling" normal { z: -1 } offset: 10 }
+)",
+                                            "parts.pbtxt");
+  physics::World world(s.world);
+  const rigid::SceneDescription d = common::describe_scene(s, world);
+  ASSERT_TRUE(d.lengths_agree());
+  ASSERT_EQ(d.part_count(), 5u);
+  EXPECT_EQ(d.part_names, (std::vector<std::string>{"ground", "wall", "ceiling", "ramp", "post"}));
+  using K = rigid::ShapeKind;
+  EXPECT_EQ(d.part_kinds, (std::vector<K>{K::kPlane, K::kPlane, K::kPlane, K::kBox, K::kCylinder}));
+  EXPECT_EQ(d.part_restitution, (std::vector<double>{0.5, 0.25, 0.25, 0.25, 0.25}));
+  EXPECT_EQ(d.part_friction, (std::vector<double>{0.75, 0.75, 0.75, 0.2, 0.75}));
+  // Each plane: S's z axis (q_WS applied to z) is the unit normal, and S's origin is offset along
+  // it; a point of the plane z = 0 of S satisfies n . x = offset.
+  const std::vector<physics::Vec3> normals{{0, 0, 1}, {-1, 0, 0}, {0, 0, -1}};
+  const std::vector<double> offsets{-0.5, 2, 10};
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE(d.part_names[i]);
+    const physics::Quat q(d.part_orientation[4 * i], d.part_orientation[4 * i + 1],
+                          d.part_orientation[4 * i + 2], d.part_orientation[4 * i + 3]);
+    EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+    EXPECT_LT((q * physics::Vec3::UnitZ() - normals[i]).norm(), 1e-15);
+    const physics::Vec3 p(d.part_position[3 * i], d.part_position[3 * i + 1],
+                          d.part_position[3 * i + 2]);
+    EXPECT_LT((p - offsets[i] * normals[i]).norm(), 1e-15);
+    const physics::Vec3 on_plane = p + q * physics::Vec3(0.3, -0.7, 0.0);
+    EXPECT_NEAR(normals[i].dot(on_plane), offsets[i], 1e-14);
+    EXPECT_EQ(d.part_dims[3 * i], 0.0);
+  }
+  EXPECT_EQ(std::vector<double>(d.part_position.begin() + 9, d.part_position.end()),
+            (std::vector<double>{1, 2, 3, 0, 0, 0}));
+  EXPECT_EQ(std::vector<double>(d.part_orientation.begin() + 12, d.part_orientation.end()),
+            (std::vector<double>{0.8, 0, 0.6, 0, 1, 0, 0, 0}));
+  EXPECT_EQ(std::vector<double>(d.part_dims.begin() + 9, d.part_dims.end()),
+            (std::vector<double>{2, 1, 0.1, 0.3, 2, 0}));
+}
+
 TEST(TripleBuffer, TheReaderGetsTheNewestAndOverwritesAreReported) {
   TripleBuffer<int> b(0);
   EXPECT_EQ(b.take(), nullptr);

@@ -167,6 +167,42 @@ TEST(LcmDecode, AStatsReportWithANulInASenderIsMalformed) {
   EXPECT_EQ(codec.decode(bytes, out), DecodeStatus::kMalformed);
 }
 
+// A ContactEvents whose counts agree but exceed what one message may carry (4096 events).
+TEST(LcmDecode, MoreContactEventsThanAMessageCarriesAreInconsistent) {
+  lcm::Codec codec;
+  const Bytes valid = encode(codec, ContactEvents{});
+  for (const std::uint64_t n : {std::uint64_t{4096}, std::uint64_t{4097}}) {
+    Bytes bytes(valid.begin(), valid.begin() + 8);  // the fingerprint
+    append_be(bytes, n, 4);                         // num_events
+    append_be(bytes, 3 * n, 4);                     // num_xyz
+    for (int i = 0; i < 4; ++i)
+      append_be(bytes, 0, 8);  // tick, sim_time, stamp_ns, dropped
+    for (std::uint64_t i = 0; i < 3 * n; ++i)
+      append_be(bytes, 1, 4);  // kinds, bodies, parts
+    for (std::uint64_t i = 0; i < 10 * n; ++i)
+      append_be(bytes, 0, 8);  // times and the three vectors
+    ContactEvents out;
+    EXPECT_EQ(codec.decode(bytes, out),
+              n == 4096 ? DecodeStatus::kOk : DecodeStatus::kInconsistentLengths)
+        << n << " events";
+  }
+}
+
+// A SceneInfo whose part counts disagree: 2 parts but 3 position numbers.
+TEST(LcmDecode, SceneInfoWithDisagreeingPartCountsIsInconsistent) {
+  lcm::Codec codec;
+  RandomMessages random(12);
+  SceneDescription scene = random.scene(0, 2);
+  Bytes bytes = encode(codec, scene);
+  SceneDescription out;
+  ASSERT_EQ(codec.decode(bytes, out), DecodeStatus::kOk);
+  // num_part_xyz (after num_bodies, num_inertia, num_shape_dims, num_parts) 6 -> 3: the payload
+  // then ends 24 bytes early for lcm-gen's layout, so the last 24 bytes are cut as well.
+  put_be32(bytes, 8 + 4 * 4, 3);
+  bytes.resize(bytes.size() - 2 * 24);  // part_position and part_dims shrink by 3 doubles each
+  EXPECT_EQ(codec.decode(bytes, out), DecodeStatus::kInconsistentLengths);
+}
+
 TEST(LcmDecode, TrailingBytesAreMalformed) {
   lcm::Codec codec;
   Bytes bytes = encode(codec, ControlCommand{});
@@ -187,6 +223,8 @@ void fuzz(Codec& codec, std::uint64_t seed) {
   ControlReply reply;
   StatsReport stats;
   SceneDescription scene;
+  AcceptedCommand accepted;
+  ContactEvents contacts;
   auto decode_all = [&](const Bytes& bytes) {
     (void)codec.decode(bytes, state);
     (void)codec.decode(bytes, wrench);
@@ -194,10 +232,14 @@ void fuzz(Codec& codec, std::uint64_t seed) {
     (void)codec.decode(bytes, reply);
     (void)codec.decode(bytes, stats);
     (void)codec.decode(bytes, scene);
+    (void)codec.decode(bytes, accepted);
+    (void)codec.decode(bytes, contacts);
   };
-  const std::vector<Bytes> valid{encode(codec, random.state(5)),  encode(codec, random.wrench()),
-                                 encode(codec, random.control()), encode(codec, random.reply()),
-                                 encode(codec, random.stats()),   encode(codec, random.scene(4))};
+  const std::vector<Bytes> valid{
+      encode(codec, random.state(5)),   encode(codec, random.wrench()),
+      encode(codec, random.control()),  encode(codec, random.reply()),
+      encode(codec, random.stats()),    encode(codec, random.scene(4, 3)),
+      encode(codec, random.accepted()), encode(codec, random.contacts(4))};
   for (int round = 0; round < 3000; ++round) {
     Bytes bytes = valid[rng() % valid.size()];
     const int changes = 1 + static_cast<int>(rng() % 4);

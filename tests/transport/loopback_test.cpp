@@ -40,6 +40,7 @@ class Mailbox final : public Receiver {
   void on_stats(const StatsReport& m) override { store(stats_, m); }
   void on_scene(const SceneDescription& m) override { store(scene_, m); }
   void on_control_reply(const ControlReply& m) override { store(reply_, m); }
+  void on_contacts(const ContactEvents& m) override { store(contacts_, m); }
   void on_decode_error(const DecodeError& e) override {
     const std::lock_guard lock(mutex_);
     ++decode_errors_;
@@ -73,6 +74,7 @@ class Mailbox final : public Receiver {
   std::optional<StatsReport> stats_;
   std::optional<SceneDescription> scene_;
   std::optional<ControlReply> reply_;
+  std::optional<ContactEvents> contacts_;
 
  private:
   template <class Message>
@@ -142,8 +144,15 @@ void round_trip(const Factory& make) {
     EXPECT_EQ(server->publish(stats), PublishResult::kOk);
   })) << "no stats received within 10 s";
 
+  // A full tick's worth of events (~300 KB): fragmented on both buses.
+  const ContactEvents contacts = random.contacts(kMaxContactEvents);
+  EXPECT_TRUE(client_box.await(&Mailbox::contacts_, contacts, [&] {
+    EXPECT_EQ(server->publish(contacts), PublishResult::kOk);
+  })) << "no contact events received within 10 s";
+
   // Roles are enforced: a client does not publish state, a server does not publish commands.
   EXPECT_EQ(client->publish(state), PublishResult::kWrongRole);
+  EXPECT_EQ(client->publish(contacts), PublishResult::kWrongRole);
   EXPECT_EQ(server->publish(wrench), PublishResult::kWrongRole);
 
   EXPECT_EQ(server_box.decode_errors(), 0);

@@ -140,7 +140,9 @@ class RandomMessages {
     return m;
   }
 
-  SceneDescription scene(std::size_t bodies) {
+  // With `parts` static parts (by default a few, so that every round trip carries some).
+  SceneDescription scene(std::size_t bodies) { return scene(bodies, below(6)); }
+  SceneDescription scene(std::size_t bodies, std::size_t parts) {
     SceneDescription m;
     m.scene_name = text();
     m.dt = real();
@@ -160,6 +162,42 @@ class RandomMessages {
       for (int k = 0; k < 3; ++k)
         m.shape_dims.push_back(real());
     }
+    for (std::size_t i = 0; i < parts; ++i) {
+      m.part_names.push_back(text());
+      m.part_kinds.push_back(any_enum<ShapeKind>());
+      for (int k = 0; k < 3; ++k)
+        m.part_position.push_back(real());
+      for (int k = 0; k < 4; ++k)
+        m.part_orientation.push_back(real());
+      for (int k = 0; k < 3; ++k)
+        m.part_dims.push_back(real());
+      m.part_restitution.push_back(real());
+      m.part_friction.push_back(real());
+    }
+    return m;
+  }
+
+  ContactEvents contacts(std::size_t events) {
+    ContactEvents m;
+    m.tick = i64();
+    m.sim_time = real();
+    m.stamp_ns = i64();
+    m.dropped = i64();
+    m.resize(events);
+    for (auto& x : m.kinds)
+      x = any_enum<ContactKind>();
+    for (auto& x : m.bodies)
+      x = i32();
+    for (auto& x : m.parts)
+      x = i32();
+    for (auto& x : m.times)
+      x = real();
+    for (auto& x : m.position)
+      x = real();
+    for (auto& x : m.normal)
+      x = real();
+    for (auto& x : m.impulse)
+      x = real();
     return m;
   }
 

@@ -48,6 +48,7 @@ void every_message_with_random_values_comes_back_exactly() {
     expect_round_trip(codec, random.stats());
     expect_round_trip(codec, random.scene(bodies));
     expect_round_trip(codec, random.accepted());
+    expect_round_trip(codec, random.contacts(random.below(50)));
   }
 }
 
@@ -61,6 +62,7 @@ void empty_messages_come_back() {
   expect_round_trip(codec, StatsReport{});
   expect_round_trip(codec, SceneDescription{});
   expect_round_trip(codec, AcceptedCommand{});
+  expect_round_trip(codec, ContactEvents{});
 }
 
 template <class Codec>
@@ -68,7 +70,8 @@ void thousand_body_state_comes_back() {
   Codec codec;
   RandomMessages random(7);
   expect_round_trip(codec, random.state(1000));
-  expect_round_trip(codec, random.scene(1000));
+  expect_round_trip(codec, random.scene(1000, 1000));
+  expect_round_trip(codec, random.contacts(kMaxContactEvents));
 }
 
 // Infinities, NaNs with payloads and negative zero are compared bit for bit (== cannot).
@@ -115,6 +118,7 @@ void reused_output_holds_only_the_latest_message() {
   RandomMessages random(11);
   StateFrame out;
   SceneDescription scene_out;
+  ContactEvents contacts_out;
   for (std::size_t bodies : {30u, 3u, 0u, 12u}) {
     const StateFrame state = random.state(bodies);
     const auto encoded = codec.encode(state);
@@ -127,6 +131,13 @@ void reused_output_holds_only_the_latest_message() {
     const std::vector<std::uint8_t> scene_bytes(scene_encoded.begin(), scene_encoded.end());
     ASSERT_EQ(codec.decode(scene_bytes, scene_out), DecodeStatus::kOk);
     EXPECT_EQ(scene_out, scene);
+
+    const ContactEvents contacts = random.contacts(bodies);
+    const auto contacts_encoded = codec.encode(contacts);
+    const std::vector<std::uint8_t> contacts_bytes(contacts_encoded.begin(),
+                                                   contacts_encoded.end());
+    ASSERT_EQ(codec.decode(contacts_bytes, contacts_out), DecodeStatus::kOk);
+    EXPECT_EQ(contacts_out, contacts);
   }
 }
 
@@ -141,6 +152,18 @@ void inconsistent_message_is_not_encoded() {
   scene.ids = {1, 2};
   scene.names = {"a"};
   EXPECT_TRUE(codec.encode(scene).empty());
+  RandomMessages random(5);
+  SceneDescription parts = random.scene(2, 3);
+  parts.part_orientation.pop_back();
+  EXPECT_TRUE(codec.encode(parts).empty());
+  parts = random.scene(2, 3);
+  parts.part_friction.push_back(0.5);
+  EXPECT_TRUE(codec.encode(parts).empty());
+  ContactEvents contacts = random.contacts(3);
+  contacts.impulse.pop_back();
+  EXPECT_TRUE(codec.encode(contacts).empty());
+  // More events than a message may carry.
+  EXPECT_TRUE(codec.encode(random.contacts(kMaxContactEvents + 1)).empty());
 }
 
 TEST(DdsRoundTrip, EveryMessageWithRandomValuesComesBackExactly) {
@@ -228,6 +251,10 @@ TEST(LcmSceneEncoding, BytesAreThoseOfTheGeneratedEncoder) {
       scene.names[0].clear();
       scene.scene_name.clear();
     }
+    if (seed % 7 == 0 && scene.part_count() > 0) {
+      scene.part_names[0].clear();
+      scene.part_friction[0] = -0.0;
+    }
     expect_generated_bytes<rigid_lcm::SceneInfo>(codec, scene);
   }
 }
@@ -247,6 +274,16 @@ TEST(LcmSceneEncoding, AStringHoldingANulOrDisagreeingLengthsAreRefusedKeepingTh
   EXPECT_TRUE(codec.encode(bad).empty());
   bad = good;
   bad.inertia.pop_back();
+  EXPECT_TRUE(codec.encode(bad).empty());
+  bad = good;
+  bad.part_names.push_back(std::string("gr\0und", 7));
+  bad.part_kinds.push_back(ShapeKind::kPlane);
+  bad.part_position.insert(bad.part_position.end(), 3, 0.0);
+  bad.part_orientation.insert(bad.part_orientation.end(), {1.0, 0.0, 0.0, 0.0});
+  bad.part_dims.insert(bad.part_dims.end(), 3, 0.0);
+  bad.part_restitution.push_back(0.0);
+  bad.part_friction.push_back(0.5);
+  ASSERT_TRUE(bad.lengths_agree());
   EXPECT_TRUE(codec.encode(bad).empty());
   // A refused scene leaves the last payload as it was (the LCM transport republishes it).
   EXPECT_EQ(std::vector<std::uint8_t>(kept.begin(), kept.end()), good_bytes);

@@ -53,6 +53,18 @@ enum class ShapeKind : std::int32_t {
   kCylinder = 3,   // dims: radius, length along B's z
   kEllipsoid = 4,  // dims: semi-axes along B's x, y, z
   kCapsule = 5,    // dims: radius, length of the cylindrical part along B's z
+  // Static parts only (SceneDescription::part_kinds): the plane z = 0 of the part's frame, solid
+  // below it (z <= 0); dims unused.
+  kPlane = 6,
+};
+
+// What a contact event is (ContactEvents::kinds).
+enum class ContactKind : std::int32_t {
+  kImpact = 1,    // an impulse where a body hit a static part
+  kResting = 2,   // the body starts resting on its supports: no velocity, held by them
+  kSliding = 3,   // the body starts sliding on its supports (slip at a contact)
+  kRolling = 4,   // the body starts moving on its supports without slip at any contact
+  kSeparate = 5,  // the body leaves its supports: in free flight from here
 };
 
 using Vec3 = std::array<double, 3>;
@@ -66,6 +78,10 @@ inline constexpr std::size_t kMaxIntegratorLength = 64;
 inline constexpr std::size_t kMaxRefusedSources = 16;  // StatsReport.refused_by_source
 inline constexpr std::size_t kMaxSenderLength = 80;
 inline constexpr std::size_t kMaxReasonLength = 24;
+// Static parts a scene description may carry, and contact events one ContactEvents message may
+// carry: the physics keeps at most this many a tick (physics::World::contact_events).
+inline constexpr std::size_t kMaxParts = 1'000'000;
+inline constexpr std::size_t kMaxContactEvents = 4096;
 
 // One published state of the world (server -> all).
 struct StateFrame {
@@ -250,14 +266,67 @@ struct SceneDescription {
   std::vector<double> inertia;  // 6n: Ixx, Iyy, Izz, Ixy, Ixz, Iyz about the centre of mass, in B
   std::vector<ShapeKind> shape_kinds;
   std::vector<double> shape_dims;  // 3n
+  // Static parts, m of them: the scene's planes, then its static shapes, in file order (a contact
+  // event's part is an index into these). Each has a frame S fixed in W: a plane is the plane
+  // z = 0 of S, solid below it (S's origin is the plane's point nearest W's origin, its z axis the
+  // plane's unit normal); a shape is centred on S's origin with its axes along S's.
+  std::vector<std::string> part_names;
+  std::vector<ShapeKind> part_kinds;     // kPlane, kBox, kSphere, kCylinder, kCapsule
+  std::vector<double> part_position;     // 3m: p_WS
+  std::vector<double> part_orientation;  // 4m: q_WS as w, x, y, z
+  std::vector<double> part_dims;         // 3m: as shape_dims; 0 for a plane
+  std::vector<double> part_restitution;  // m: its material (the world's where it gave none)
+  std::vector<double> part_friction;     // m
 
   std::size_t body_count() const { return ids.size(); }
+  std::size_t part_count() const { return part_names.size(); }
   bool lengths_agree() const {
     const std::size_t n = ids.size();
+    const std::size_t m = part_names.size();
     return names.size() == n && masses.size() == n && inertia.size() == 6 * n &&
-           shape_kinds.size() == n && shape_dims.size() == 3 * n;
+           shape_kinds.size() == n && shape_dims.size() == 3 * n && part_kinds.size() == m &&
+           part_position.size() == 3 * m && part_orientation.size() == 4 * m &&
+           part_dims.size() == 3 * m && part_restitution.size() == m && part_friction.size() == m;
   }
   bool operator==(const SceneDescription&) const = default;
+};
+
+// The contact events of one tick (server -> all), published for the ticks that have any: every
+// impact of a body on a static part, and every change of how the parts support a body (it starts
+// resting, sliding or rolling, or leaves them), in the order the physics found them (by step, body
+// id, then time). n events, at most kMaxContactEvents.
+struct ContactEvents {
+  std::int64_t tick = 0;      // the tick whose steps they happened in (from tick - 1 to tick)
+  double sim_time = 0.0;      // tick * dt: the end of that tick (s)
+  std::int64_t stamp_ns = 0;  // wall clock (CLOCK_REALTIME) when handed to the buses
+  // Events the server could not send on this bus since it started: beyond kMaxContactEvents in a
+  // tick (the physics keeps no more), or while the bus's publisher was behind.
+  std::int64_t dropped = 0;
+  std::vector<ContactKind> kinds;
+  std::vector<std::int32_t> bodies;  // body ids
+  std::vector<std::int32_t> parts;   // static part indices (SceneDescription::part_names)
+  std::vector<double> times;         // n: sim time of each, exactly, within the tick (s)
+  std::vector<double> position;      // 3n: p_W, where (an impact: the impulse's centre)
+  std::vector<double> normal;        // 3n: n_W, the part's unit normal there, towards the body
+  std::vector<double> impulse;       // 3n: on the body, in W (N s); zero but for an impact
+
+  std::size_t event_count() const { return kinds.size(); }
+  // Sizes every per-event vector for n events; keeps capacity.
+  void resize(std::size_t n) {
+    kinds.resize(n);
+    bodies.resize(n);
+    parts.resize(n);
+    times.resize(n);
+    position.resize(3 * n);
+    normal.resize(3 * n);
+    impulse.resize(3 * n);
+  }
+  bool lengths_agree() const {
+    const std::size_t n = kinds.size();
+    return bodies.size() == n && parts.size() == n && times.size() == n &&
+           position.size() == 3 * n && normal.size() == 3 * n && impulse.size() == 3 * n;
+  }
+  bool operator==(const ContactEvents&) const = default;
 };
 
 }  // namespace rigid

@@ -76,7 +76,7 @@ constexpr std::string_view outcome_name(Outcome outcome) {
   return "unknown outcome";
 }
 
-// "sphere", "box", "cylinder", "ellipsoid", "capsule"; "" for none (or an unknown value).
+// "sphere", "box", "cylinder", "ellipsoid", "capsule", "plane"; "" for none (or an unknown value).
 constexpr std::string_view shape_name(ShapeKind kind) {
   switch (kind) {
     case ShapeKind::kSphere:
@@ -89,10 +89,29 @@ constexpr std::string_view shape_name(ShapeKind kind) {
       return "ellipsoid";
     case ShapeKind::kCapsule:
       return "capsule";
+    case ShapeKind::kPlane:
+      return "plane";
     case ShapeKind::kNone:
       break;
   }
   return "";
+}
+
+// "impact", "resting", "sliding", "rolling", "separate"; "unknown" otherwise.
+constexpr std::string_view contact_name(ContactKind kind) {
+  switch (kind) {
+    case ContactKind::kImpact:
+      return "impact";
+    case ContactKind::kResting:
+      return "resting";
+    case ContactKind::kSliding:
+      return "sliding";
+    case ContactKind::kRolling:
+      return "rolling";
+    case ContactKind::kSeparate:
+      return "separate";
+  }
+  return "unknown";
 }
 
 }  // namespace rigid

@@ -64,15 +64,22 @@ struct DdsTypeOf<AcceptedCommand> {
   static constexpr const dds_topic_descriptor_t* descriptor = &rigid_AcceptedCommand_desc;
   static constexpr Topic topic = Topic::kAccepted;
 };
+template <>
+struct DdsTypeOf<ContactEvents> {
+  using type = rigid_ContactEvents;
+  static constexpr const dds_topic_descriptor_t* descriptor = &rigid_ContactEvents_desc;
+  static constexpr Topic topic = Topic::kContacts;
+};
 
 // Storage some borrowed views need (strings as char arrays, shape kinds as int32): one per writer.
 using BorrowScratch = wire::Scratch;
 
-// The rows (bodies, refused sources) a received sample holds, or false when its sequences' lengths
-// disagree.
+// The rows (bodies, refused sources, static parts, events) a received sample holds, or false when
+// its sequences' lengths disagree.
 bool rows(const rigid_WorldState& in, std::size_t& n);
 bool rows(const rigid_Stats& in, std::size_t& n);
-bool rows(const rigid_SceneInfo& in, std::size_t& n);
+bool rows(const rigid_SceneInfo& in, wire::SceneRows& n);
+bool rows(const rigid_ContactEvents& in, std::size_t& n);
 template <class Dds>
 bool rows(const Dds& /*in*/, std::size_t& n) {
   n = 0;
@@ -83,14 +90,14 @@ bool rows(const Dds& /*in*/, std::size_t& n) {
 // uint32 lengths), or a string is longer than its bound.
 template <class Plain>
 bool borrow(const Plain& in, BorrowScratch& scratch, typename DdsTypeOf<Plain>::type& out) {
-  std::size_t n = 0;
+  typename wire::RowsOf<Plain>::type n{};
   return wire::rows(in, n) && wire::encode(in, out, n, &scratch);
 }
 
 // Copies into `out`, reusing its storage. kInconsistentLengths when per-body sequences disagree.
 template <class Plain>
 DecodeStatus copy_from(const typename DdsTypeOf<Plain>::type& in, Plain& out) {
-  std::size_t n = 0;
+  typename wire::RowsOf<Plain>::type n{};
   if (!rows(in, n)) return DecodeStatus::kInconsistentLengths;
   wire::decode(in, out, n);
   return DecodeStatus::kOk;

@@ -7,6 +7,10 @@ namespace {
 // this many unread ones the oldest go, so a flood never blocks the controller's writer.
 constexpr int kCommandDepth = 256;
 constexpr int kReplyDepth = 64;
+// Contact events come one message per tick that has any: a burst (bodies landing tick after tick,
+// a lockstep step request sent back to back) is kept for a subscriber a little behind, up to this
+// many ticks; each message is at most 4096 events (~300 KB).
+constexpr int kContactDepth = 64;
 // How long a reliable write may wait for a slow reader's acknowledgements before failing.
 constexpr dds_duration_t kMaxBlocking = DDS_MSECS(10);
 
@@ -29,6 +33,12 @@ Qos topic_qos(Topic topic, bool reliable_state) {
     case Topic::kAccepted:  // a recorder wants every one, as the server received them
       dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, kMaxBlocking);
       dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kCommandDepth);
+      break;
+    case Topic::kContacts:
+      // Every event matters (an impact is not repeated as a state is), so reliable; the writer
+      // waits at most kMaxBlocking for a slow reader, then the sample is dropped and counted.
+      dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, kMaxBlocking);
+      dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kContactDepth);
       break;
     case Topic::kControlReply:
       dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, kMaxBlocking);

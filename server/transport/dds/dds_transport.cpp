@@ -106,6 +106,9 @@ void deliver(Receiver& receiver, const SceneDescription& message, const Origin& 
 void deliver(Receiver& receiver, const AcceptedCommand& message, const Origin& /*origin*/) {
   receiver.on_accepted(message);
 }
+void deliver(Receiver& receiver, const ContactEvents& message, const Origin& /*origin*/) {
+  receiver.on_contacts(message);
+}
 
 // A reader and what it takes samples into: the idlc sample (its sequences grow to the largest
 // message seen, then are reused) and the plain message handed to the Receiver.
@@ -225,6 +228,7 @@ class DdsTransport final : public Transport {
     create<StatsReport>(names, options);
     create<SceneDescription>(names, options);
     create<AcceptedCommand>(names, options);
+    create<ContactEvents>(names, options);
     if (add_on_) {
       const std::vector<dds_entity_t> conditions =
           add_on_->open(participant_.get(), receiver_, counter_);
@@ -290,6 +294,7 @@ class DdsTransport final : public Transport {
     if (add_on_ && result == PublishResult::kOk) add_on_->on_accepted(m);
     return result;
   }
+  PublishResult publish(const ContactEvents& m) override { return write(m); }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
 
@@ -311,7 +316,10 @@ class DdsTransport final : public Transport {
     Entity& entity = topics_[index_of(topic)];
     const dds_entity_t created = dds_create_topic(participant_.get(), DdsTypeOf<Plain>::descriptor,
                                                   name.c_str(), qos.get(), nullptr);
-    if (created == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY && role_ == Role::kClient) {
+    // rigid/contacts came after the first keystores: a server identity made before it may not
+    // publish it, and goes without (publishing contact events is then kNotPermitted).
+    const bool optional = role_ == Role::kClient || topic == Topic::kContacts;
+    if (created == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY && optional) {
       // This identity's permissions leave the topic out (a reader cannot write wrenches, an
       // identity that may not control gets no control replies): it simply does without.
       return;
@@ -328,9 +336,10 @@ class DdsTransport final : public Transport {
       dds_qset_partition(qos.get(), 1, partitions);
     }
     if (publishes(role_, topic)) {
-      writers_[index_of(topic)] =
-          Entity(dds_create_writer(participant_.get(), entity.get(), qos.get(), nullptr),
-                 "writer for " + name);
+      const dds_entity_t writer =
+          dds_create_writer(participant_.get(), entity.get(), qos.get(), nullptr);
+      if (writer == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY && optional) return;
+      writers_[index_of(topic)] = Entity(writer, "writer for " + name);
     } else {
       if (topic == Topic::kState)
         qos = reader_qos(topic, options.reliable_state, options.state_history);
@@ -344,8 +353,11 @@ class DdsTransport final : public Transport {
 
   template <class Plain>
   PublishResult write(const Plain& message) {
-    constexpr std::size_t i = index_of(DdsTypeOf<Plain>::topic);
-    if (writers_[i].get() <= 0) return PublishResult::kWrongRole;
+    constexpr Topic topic = DdsTypeOf<Plain>::topic;
+    constexpr std::size_t i = index_of(topic);
+    if (writers_[i].get() <= 0) {
+      return publishes(role_, topic) ? PublishResult::kNotPermitted : PublishResult::kWrongRole;
+    }
     const std::lock_guard lock(send_mutex_[i]);
     return write_with(writers_[i].get(), message, scratch_[i]);
   }

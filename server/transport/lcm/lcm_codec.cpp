@@ -118,6 +118,9 @@ constexpr std::array kSceneInfoLayout{
     kCount,                  // num_bodies
     kCount,                  // num_inertia
     kCount,                  // num_shape_dims
+    kCount,                  // num_parts
+    kCount,                  // num_part_xyz
+    kCount,                  // num_part_wxyz
     kStr,                    // scene_name
     kF64,                    // dt
     kI32,                    // substeps
@@ -135,6 +138,29 @@ constexpr std::array kSceneInfoLayout{
     counted(K::kDouble, 1),  // inertia
     counted(K::kInt32, 0),   // shape_kinds
     counted(K::kDouble, 2),  // shape_dims
+    counted(K::kString, 3),  // part_names
+    counted(K::kInt32, 3),   // part_kinds
+    counted(K::kDouble, 4),  // part_position
+    counted(K::kDouble, 5),  // part_orientation
+    counted(K::kDouble, 4),  // part_dims
+    counted(K::kDouble, 3),  // part_restitution
+    counted(K::kDouble, 3),  // part_friction
+};
+
+constexpr std::array kContactEventsLayout{
+    kCount,                  // num_events
+    kCount,                  // num_xyz
+    kI64,                    // tick
+    kF64,                    // sim_time
+    kI64,                    // stamp_ns
+    kI64,                    // dropped
+    counted(K::kInt32, 0),   // kinds
+    counted(K::kInt32, 0),   // bodies
+    counted(K::kInt32, 0),   // parts
+    counted(K::kDouble, 0),  // times
+    counted(K::kDouble, 1),  // position
+    counted(K::kDouble, 1),  // normal
+    counted(K::kDouble, 1),  // impulse
 };
 
 constexpr std::array kAcceptedCommandLayout{
@@ -166,6 +192,7 @@ constexpr const auto& layout_for() {
   if constexpr (std::is_same_v<Plain, StatsReport>) return kStatsLayout;
   if constexpr (std::is_same_v<Plain, SceneDescription>) return kSceneInfoLayout;
   if constexpr (std::is_same_v<Plain, AcceptedCommand>) return kAcceptedCommandLayout;
+  if constexpr (std::is_same_v<Plain, ContactEvents>) return kContactEventsLayout;
 }
 
 template <class LcmType, class Plain>
@@ -256,7 +283,7 @@ struct CodecBuffers<Bus::kLcm> {
 
   std::tuple<SlotOf<StateFrame>, SlotOf<WrenchCommand>, SlotOf<ControlCommand>,
              SlotOf<ControlReply>, SlotOf<StatsReport>, SlotOf<SceneDescription>,
-             SlotOf<AcceptedCommand>>
+             SlotOf<AcceptedCommand>, SlotOf<ContactEvents>>
       slots;
 };
 
@@ -293,18 +320,23 @@ std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const StateFrame& 
 // masses, inertia, shapes) for its whole life and copied the scene into it once a second.
 std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const SceneDescription& m) {
   const std::size_t n = m.body_count();
-  if (!m.lengths_agree() || n > kMaxBodies) return {};
+  const std::size_t parts = m.part_count();
+  if (!m.lengths_agree() || n > kMaxBodies || parts > kMaxParts) return {};
   // lcm-gen encodes a string up to its first NUL but sizes it by size(): it refused a string
   // holding a NUL (its encode fell short of its size), and so does this.
   const auto lcm_string = [](const std::string& s) { return s.find('\0') == std::string::npos; };
   if (!lcm_string(m.scene_name) || !lcm_string(m.integrator) ||
-      !std::all_of(m.names.begin(), m.names.end(), lcm_string)) {
+      !std::all_of(m.names.begin(), m.names.end(), lcm_string) ||
+      !std::all_of(m.part_names.begin(), m.part_names.end(), lcm_string)) {
     return {};
   }
   const auto string_size = [](const std::string& s) { return 4 + s.size() + 1; };
-  std::size_t size = 8 + 3 * 4 + string_size(m.scene_name) + 8 + 2 * 4 + 3 * 8 +
-                     string_size(m.integrator) + 3 * 8 + 4 + 8 + n * (4 + 8 + 6 * 8 + 4 + 3 * 8);
+  std::size_t size = 8 + 6 * 4 + string_size(m.scene_name) + 8 + 2 * 4 + 3 * 8 +
+                     string_size(m.integrator) + 3 * 8 + 4 + 8 + n * (4 + 8 + 6 * 8 + 4 + 3 * 8) +
+                     parts * (4 + 3 * 8 + 4 * 8 + 3 * 8 + 2 * 8);
   for (const std::string& name : m.names)
+    size += string_size(name);
+  for (const std::string& name : m.part_names)
     size += string_size(name);
   // lcm_publish takes the size as an unsigned int, lcm-gen as an int.
   if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return {};
@@ -315,6 +347,9 @@ std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const SceneDescrip
   out.put(static_cast<std::int32_t>(n));
   out.put(static_cast<std::int32_t>(6 * n));
   out.put(static_cast<std::int32_t>(3 * n));
+  out.put(static_cast<std::int32_t>(parts));
+  out.put(static_cast<std::int32_t>(3 * parts));
+  out.put(static_cast<std::int32_t>(4 * parts));
   out.put(m.scene_name);
   out.put(m.dt);
   out.put(m.substeps);
@@ -335,6 +370,15 @@ std::span<const std::uint8_t> CodecBuffers<Bus::kLcm>::encode(const SceneDescrip
   for (const ShapeKind kind : m.shape_kinds)
     out.put(static_cast<std::int32_t>(kind));
   out.put_all(m.shape_dims);
+  for (const std::string& name : m.part_names)
+    out.put(name);
+  for (const ShapeKind kind : m.part_kinds)
+    out.put(static_cast<std::int32_t>(kind));
+  out.put_all(m.part_position);
+  out.put_all(m.part_orientation);
+  out.put_all(m.part_dims);
+  out.put_all(m.part_restitution);
+  out.put_all(m.part_friction);
   assert(out.at() == bytes.data() + bytes.size());
   return bytes;
 }

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <rigid_lcm/AcceptedCommand.hpp>
+#include <rigid_lcm/ContactEvents.hpp>
 #include <rigid_lcm/Control.hpp>
 #include <rigid_lcm/ControlReply.hpp>
 #include <rigid_lcm/SceneInfo.hpp>
@@ -50,11 +51,17 @@ template <>
 struct LcmTypeOf<AcceptedCommand> {
   using type = rigid_lcm::AcceptedCommand;
 };
+template <>
+struct LcmTypeOf<ContactEvents> {
+  using type = rigid_lcm::ContactEvents;
+};
 
-// The count fields for n rows (bodies, refused sources); a message without any has none to set.
+// The count fields for n rows (bodies, refused sources, events; bodies and parts); a message
+// without any has none to set.
 void set_counts(std::size_t n, rigid_lcm::WorldState& out);
 void set_counts(std::size_t n, rigid_lcm::Stats& out);
-void set_counts(std::size_t n, rigid_lcm::SceneInfo& out);
+void set_counts(const wire::SceneRows& n, rigid_lcm::SceneInfo& out);
+void set_counts(std::size_t n, rigid_lcm::ContactEvents& out);
 template <class Lcm>
 void set_counts(std::size_t /*n*/, Lcm& /*out*/) {}
 
@@ -62,7 +69,8 @@ void set_counts(std::size_t /*n*/, Lcm& /*out*/) {}
 // 3 * num_bodies) or exceed the bounds.
 bool rows(const rigid_lcm::WorldState& in, std::size_t& n);
 bool rows(const rigid_lcm::Stats& in, std::size_t& n);
-bool rows(const rigid_lcm::SceneInfo& in, std::size_t& n);
+bool rows(const rigid_lcm::SceneInfo& in, wire::SceneRows& n);
+bool rows(const rigid_lcm::ContactEvents& in, std::size_t& n);
 template <class Lcm>
 bool rows(const Lcm& /*in*/, std::size_t& n) {
   n = 0;
@@ -72,7 +80,7 @@ bool rows(const Lcm& /*in*/, std::size_t& n) {
 // false: the per-body arrays disagree with the body count, or are too long for LCM's int32 counts.
 template <class Plain>
 bool to_lcm(const Plain& in, typename LcmTypeOf<Plain>::type& out) {
-  std::size_t n = 0;
+  typename wire::RowsOf<Plain>::type n{};
   if (!wire::rows(in, n)) return false;
   set_counts(n, out);
   return wire::encode(in, out, n);
@@ -81,7 +89,7 @@ bool to_lcm(const Plain& in, typename LcmTypeOf<Plain>::type& out) {
 // kInconsistentLengths when the count fields disagree.
 template <class Plain>
 DecodeStatus from_lcm(const typename LcmTypeOf<Plain>::type& in, Plain& out) {
-  std::size_t n = 0;
+  typename wire::RowsOf<Plain>::type n{};
   if (!rows(in, n)) return DecodeStatus::kInconsistentLengths;
   wire::decode(in, out, n);
   return DecodeStatus::kOk;

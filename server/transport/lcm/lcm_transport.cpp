@@ -52,6 +52,9 @@ void deliver(Receiver& receiver, const SceneDescription& message) {
 void deliver(Receiver& receiver, const AcceptedCommand& message) {
   receiver.on_accepted(message);
 }
+void deliver(Receiver& receiver, const ContactEvents& message) {
+  receiver.on_contacts(message);
+}
 
 // What the receive thread needs to turn a payload into a callback.
 struct Intake {
@@ -167,6 +170,7 @@ class LcmTransport final : public Transport {
     subscribe<StatsReport>(intake);
     subscribe<SceneDescription>(intake);
     subscribe<AcceptedCommand>(intake);
+    subscribe<ContactEvents>(intake);
     thread_ = std::thread([this] { receive_loop(); });
     util::name_thread(thread_, "rigid-lcm-in");
   }
@@ -206,6 +210,7 @@ class LcmTransport final : public Transport {
   PublishResult publish(const WrenchCommand& m) override { return send(m); }
   PublishResult publish(const ControlCommand& m) override { return send(m); }
   PublishResult publish(const AcceptedCommand& m) override { return send(m); }
+  PublishResult publish(const ContactEvents& m) override { return send(m); }
 
   TransportCounts counts() const override { return counter_.snapshot(); }
 
