@@ -8,6 +8,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "common/contact_csv.hpp"
 #include "common/driven_world.hpp"
 #include "common/journal_entry.hpp"
 #include "common/log_records.hpp"
@@ -83,7 +84,8 @@ scene::Scene journal_scene(const ReplayOptions& options, const msgs::LogHeader& 
 
 }  // namespace
 
-ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
+ReplayReport replay(const ReplayOptions& options, const StateSink& on_state,
+                    const ContactSink& on_contacts) {
   ReplayReport r;
   r.journal = options.journal;
   common::RecordReader reader(r.journal);  // throws common::LogFileError, a std::runtime_error
@@ -117,11 +119,34 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
     rows += util::kStateCsvHeader;
   }
 
+  std::unique_ptr<util::AtomicFile> contacts_csv;
+  std::string contact_rows;
+  if (options.contacts_csv) {
+    contacts_csv = std::make_unique<util::AtomicFile>(*options.contacts_csv);
+    contact_rows += kContactCsvHeader;
+  }
+
   rigid::StateFrame frame;
   common::shape_state_frame(driven.world(), frame);
   const int bodies = driven.world().body_count();
+  rigid::ContactEvents contacts;
+  const ContactNames contact_names(describe_scene(scene, driven.world()));
+  // The tick whose contact events the replay has and the journal has not confirmed yet: rigidd
+  // journals a tick's contact hash right after its steps, before anything else of that tick, so
+  // such events must be confirmed before the replay steps again or reads another record.
+  std::optional<std::int64_t> unconfirmed;
+  auto events_confirmed = [&](std::int64_t tick) {
+    if (!unconfirmed) return true;
+    r.divergence = ReplayReport::Divergence{
+        *unconfirmed, 0, 0,
+        "the replay's tick " + std::to_string(*unconfirmed) + " has " +
+            std::to_string(driven.world().contact_events().size()) +
+            " contact event(s), the journal none (next journaled entry at tick " +
+            std::to_string(tick) + ")"};
+    return false;
+  };
   // Steps the replay to `tick`; false (and a divergence) if the journal goes back in time, which
-  // the live loop never does between resets.
+  // the live loop never does between resets, or if a tick has contact events the journal lacks.
   auto advance_to = [&](std::int64_t tick, const char* what) {
     if (tick < driven.tick()) {
       r.divergence = ReplayReport::Divergence{
@@ -130,8 +155,11 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
               std::to_string(driven.tick()) + " (journal out of order)"};
       return false;
     }
-    for (; driven.tick() < tick; ++r.ticks)
+    for (; driven.tick() < tick; ++r.ticks) {
+      if (!events_confirmed(tick)) return false;
       driven.step_tick();
+      if (!driven.world().contact_events().empty()) unconfirmed = driven.tick();
+    }
     return true;
   };
 
@@ -141,7 +169,7 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
     switch (record.record_case()) {
       case msgs::LogRecord::kCommand: {
         common::from_record(record.command(), accepted);
-        if (!advance_to(accepted.tick, "command")) break;
+        if (!advance_to(accepted.tick, "command") || !events_confirmed(accepted.tick)) break;
         if (accepted.kind == rigid::AcceptedKind::kWrench) {
           ++r.wrenches;
           const Wrench w = wrench_of(accepted);
@@ -166,7 +194,7 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
       }
       case msgs::LogRecord::kStateHash: {
         const std::int64_t tick = record.state_hash().tick();
-        if (!advance_to(tick, "state hash")) break;
+        if (!advance_to(tick, "state hash") || !events_confirmed(tick)) break;
         common::fill_state_frame(driven.world(), tick, static_cast<double>(tick) * tick_dt, frame);
         const std::uint64_t replayed = common::state_hash(frame);
         ++r.hashes_compared;
@@ -183,6 +211,39 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
           if (rows.size() >= (1 << 20)) {
             csv->write(rows);
             rows.clear();
+          }
+        }
+        break;
+      }
+      case msgs::LogRecord::kContactHash: {
+        const msgs::ContactHash& h = record.contact_hash();
+        if (!advance_to(h.tick(), "contact hash")) break;
+        if (unconfirmed != h.tick()) {
+          r.divergence = ReplayReport::Divergence{
+              h.tick(), h.hash(), 0,
+              "the journal has " + std::to_string(h.events()) + " contact event(s) at tick " +
+                  std::to_string(h.tick()) + ", the replay none"};
+          break;
+        }
+        common::fill_contact_events(driven.world().contact_events(), h.tick(),
+                                    static_cast<double>(h.tick()) * tick_dt, contacts);
+        const std::uint64_t replayed = common::contact_hash(contacts);
+        if (replayed != h.hash()) {
+          r.divergence = ReplayReport::Divergence{
+              h.tick(), h.hash(), replayed,
+              "contact events hash mismatch (journal " + std::to_string(h.events()) +
+                  " event(s), replay " + std::to_string(contacts.event_count()) + ")"};
+          break;
+        }
+        unconfirmed.reset();
+        ++r.contact_hashes_compared;
+        r.contact_events += static_cast<std::int64_t>(contacts.event_count());
+        if (on_contacts) on_contacts(contacts);
+        if (contacts_csv) {
+          append_contact_rows(contacts, contact_names, contact_rows);
+          if (contact_rows.size() >= (1 << 20)) {
+            contacts_csv->write(contact_rows);
+            contact_rows.clear();
           }
         }
         break;
@@ -205,6 +266,10 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state) {
     csv->write(rows);
     csv->commit();
   }
+  if (contacts_csv) {
+    contacts_csv->write(contact_rows);
+    contacts_csv->commit();
+  }
   return r;
 }
 
@@ -212,7 +277,12 @@ void print_replay(std::ostream& out, const ReplayReport& r) {
   out << "replay of " << r.journal << " (written by " << r.software_version << ")\n"
       << "scene " << r.scene << ", " << r.rate_hz << " Hz, integrator " << r.integrator << '\n'
       << r.ticks << " ticks, " << r.wrenches << " wrenches, " << r.controls << " controls ("
-      << r.resets << " resets), " << r.hashes_compared << " state hashes compared\n";
+      << r.resets << " resets), " << r.hashes_compared << " state hashes compared";
+  if (r.contact_hashes_compared > 0) {
+    out << ", " << r.contact_events << " contact events in " << r.contact_hashes_compared
+        << " ticks compared";
+  }
+  out << '\n';
   if (!r.damage.empty()) {
     out << "the journal ends in a damaged tail (" << r.damage
         << "): rigidd stopped without closing it; everything before it was replayed\n";
@@ -231,8 +301,9 @@ void print_replay(std::ostream& out, const ReplayReport& r) {
     out << "INCOMPLETE: rigidd lost " << r.gap->dropped << " journal entries before tick "
         << r.gap->tick << "; verified up to tick " << r.last_verified_tick << '\n';
   } else {
-    out << "identical: every journaled state reproduced bit for bit (last at tick "
-        << r.last_verified_tick << ")\n";
+    out << "identical: every journaled state"
+        << (r.contact_hashes_compared > 0 ? " and contact event" : "")
+        << " reproduced bit for bit (last at tick " << r.last_verified_tick << ")\n";
   }
 }
 

@@ -2,7 +2,8 @@
 // reproduces it bit for bit. Each journaled command is applied at the tick at which it took effect
 // live, through the loop's own DrivenWorld (the same wrench table, order of summation and expiry
 // as the live loop), and each journaled state hash is compared with the hash of the state the
-// replay reaches at that tick. The first mismatch is the divergence, reported with its tick.
+// replay reaches at that tick, and each contact hash with the hash of the contact events of that
+// tick. The first mismatch is the divergence, reported with its tick.
 #pragma once
 
 #include <cstdint>
@@ -28,9 +29,11 @@ struct ReplayReport {
   std::int64_t controls = 0;
   std::int64_t resets = 0;
   std::int64_t hashes_compared = 0;
-  std::int64_t last_verified_tick = -1;  // of the last state found identical
-  bool closed_cleanly = false;           // the journal ends with its LogEnd record
-  std::string damage;                    // the journal's damaged tail, if any
+  std::int64_t contact_hashes_compared = 0;  // ticks with contact events, each verified
+  std::int64_t contact_events = 0;           // in those ticks
+  std::int64_t last_verified_tick = -1;      // of the last state found identical
+  bool closed_cleanly = false;               // the journal ends with its LogEnd record
+  std::string damage;                        // the journal's damaged tail, if any
   std::string csv;
   std::int64_t csv_rows = 0;
   std::vector<std::string> warnings;
@@ -62,10 +65,19 @@ struct ReplayReport {
 // valid during the call only.
 using StateSink = std::function<void(const rigid::StateFrame&)>;
 
+// Called with each tick's contact events once their hash matched the journal's, in journal order:
+// the ContactEvents message rigidd published for that tick (tick, sim_time, every event), but for
+// stamp_ns and dropped, which are 0 (neither is journaled). A journal records a hash for every tick
+// with events, and the replay checks both ways: a tick whose events the journal has and the replay
+// lacks, or the other way round, is a divergence. Valid during the call only.
+using ContactSink = std::function<void(const rigid::ContactEvents&)>;
+
 struct ReplayOptions {
   std::string journal;             // rigidd --journal's file
   std::string scene;               // the scene it ran; empty: the journal's copy of it
   std::optional<std::string> csv;  // write the replayed states to this file (state CSV)
+  // Write the replayed contact events to this file (contact CSV, util/contact_csv.hpp).
+  std::optional<std::string> contacts_csv;
 };
 
 // The scene given is not the one the journal was recorded with, or none was given and the journal
@@ -78,7 +90,8 @@ class SceneMismatch : public std::runtime_error {
 // Runs the replay of options.journal. Throws SceneMismatch, scene::SceneError for a bad scene, and
 // std::runtime_error for a journal that cannot be read or a CSV that cannot be written (exit 1).
 // What `on_state` throws ends the replay and propagates.
-ReplayReport replay(const ReplayOptions& options, const StateSink& on_state = {});
+ReplayReport replay(const ReplayOptions& options, const StateSink& on_state = {},
+                    const ContactSink& on_contacts = {});
 
 void print_replay(std::ostream& out, const ReplayReport& report);
 

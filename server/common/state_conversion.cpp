@@ -1,5 +1,7 @@
 #include "common/state_conversion.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "physics/math.hpp"
@@ -51,6 +53,63 @@ physics::Vec3 shape_dims(const physics::Shape& s) {
   return s.size;
 }
 
+rigid::ContactKind contact_kind(physics::ContactEventKind k) {
+  switch (k) {
+    case physics::ContactEventKind::kImpact:
+      return rigid::ContactKind::kImpact;
+    case physics::ContactEventKind::kResting:
+      return rigid::ContactKind::kResting;
+    case physics::ContactEventKind::kSliding:
+      return rigid::ContactKind::kSliding;
+    case physics::ContactEventKind::kRolling:
+      return rigid::ContactKind::kRolling;
+    case physics::ContactEventKind::kSeparate:
+      break;
+  }
+  return rigid::ContactKind::kSeparate;
+}
+
+void reserve_contact_events(rigid::ContactEvents& out) {
+  constexpr std::size_t n = rigid::kMaxContactEvents;
+  out.kinds.reserve(n);
+  out.bodies.reserve(n);
+  out.parts.reserve(n);
+  out.times.reserve(n);
+  out.position.reserve(3 * n);
+  out.normal.reserve(3 * n);
+  out.impulse.reserve(3 * n);
+}
+
+void fill_contact_events(std::span<const physics::ContactEvent> events, std::int64_t tick,
+                         double sim_time, rigid::ContactEvents& out) {
+  const std::size_t n = std::min(events.size(), rigid::kMaxContactEvents);
+  out.tick = tick;
+  out.sim_time = sim_time;
+  out.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const physics::ContactEvent& e = events[i];
+    out.kinds[i] = contact_kind(e.kind);
+    out.bodies[i] = e.body;
+    out.parts[i] = e.part;
+    out.times[i] = e.time;
+    for (int k = 0; k < 3; ++k) {
+      out.position[3 * i + k] = e.p_W[k];
+      out.normal[3 * i + k] = e.n_W[k];
+      out.impulse[3 * i + k] = e.impulse_W[k];
+    }
+  }
+}
+
+PlaneFrame plane_frame(const physics::PlaneSpec& plane) {
+  const physics::Vec3& n = plane.n_W;
+  const double w = 1.0 + n.z();
+  const double norm = std::hypot(w, n.x(), n.y());
+  const physics::Quat q_WS = norm < 1e-12
+                                 ? physics::Quat(0.0, 1.0, 0.0, 0.0)
+                                 : physics::Quat(w / norm, -n.y() / norm, n.x() / norm, 0.0);
+  return {plane.offset * n, q_WS};
+}
+
 rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics::World& world) {
   rigid::SceneDescription d;
   const physics::WorldSpec& spec = scene.world;
@@ -93,12 +152,9 @@ rigid::SceneDescription describe_scene(const scene::Scene& scene, const physics:
     d.part_restitution.push_back(surface.restitution);
     d.part_friction.push_back(surface.friction);
   };
-  // A plane n . x <= offset as the plane z = 0 of its frame S: S's origin the plane's point
-  // nearest W's origin, its z axis n (the shortest turn of W's z onto n; about x for n = -z).
   for (const physics::PlaneSpec& p : spec.planes) {
-    const physics::Quat q_WS = physics::Quat::FromTwoVectors(physics::Vec3::UnitZ(), p.n_W);
-    add_part(p.name, rigid::ShapeKind::kPlane, p.offset * p.n_W, q_WS, physics::Vec3::Zero(),
-             p.surface);
+    const PlaneFrame f = plane_frame(p);
+    add_part(p.name, rigid::ShapeKind::kPlane, f.p_WS, f.q_WS, physics::Vec3::Zero(), p.surface);
   }
   for (const physics::StaticSpec& s : spec.statics)
     add_part(s.name, shape_kind(s.shape.kind), s.p_WS, s.q_WS, shape_dims(s.shape), s.surface);

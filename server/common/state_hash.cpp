@@ -27,6 +27,13 @@ std::uint64_t finish(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+template <class T>
+std::uint64_t fold_ints(std::uint64_t h, const std::vector<T>& values) {
+  for (const T v : values)
+    h = fold(h, static_cast<std::uint64_t>(static_cast<std::int64_t>(v)));
+  return h;
+}
+
 }  // namespace
 
 std::uint64_t state_hash(const rigid::StateFrame& frame) {
@@ -36,6 +43,21 @@ std::uint64_t state_hash(const rigid::StateFrame& frame) {
   h = fold_all(h, frame.orientation);
   h = fold_all(h, frame.linear_velocity);
   h = fold_all(h, frame.angular_velocity);
+  return finish(h);
+}
+
+std::uint64_t contact_hash(const rigid::ContactEvents& events) {
+  std::uint64_t h =
+      fold(0x636f6e74616374ULL, static_cast<std::uint64_t>(events.tick));  // "contact"
+  h = fold(h, std::bit_cast<std::uint64_t>(events.sim_time));
+  h = fold(h, events.kinds.size());
+  h = fold_ints(h, events.kinds);
+  h = fold_ints(h, events.bodies);
+  h = fold_ints(h, events.parts);
+  h = fold_all(h, events.times);
+  h = fold_all(h, events.position);
+  h = fold_all(h, events.normal);
+  h = fold_all(h, events.impulse);
   return finish(h);
 }
 

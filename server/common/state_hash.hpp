@@ -1,7 +1,8 @@
 // A 64-bit fingerprint of a published state: its tick, its body count and the bit pattern of every
-// per-body value (position, orientation, velocities), in order. rigidd journals one for each state
-// it publishes; rigid-sim --replay recomputes it from the state its own world reaches at that tick,
-// so that "bit-identical" is checked without storing every state.
+// per-body value (position, orientation, velocities), in order; and of a tick's contact events:
+// the tick, the event count and every value of every event. rigidd journals one for each state it
+// publishes and each tick with contact events; rigid-sim --replay recomputes them from its own
+// world at that tick, so that "bit-identical" is checked without storing every state or event.
 //
 // Not cryptographic, but every step is a bijection of the running value: two states that differ in
 // a single value always hash differently, and states that differ in several collide with
@@ -16,5 +17,7 @@
 namespace rigid::common {
 
 std::uint64_t state_hash(const rigid::StateFrame& frame);
+// stamp_ns and dropped (what the buses add) are left out: they are not the physics'.
+std::uint64_t contact_hash(const rigid::ContactEvents& events);
 
 }  // namespace rigid::common

@@ -88,6 +88,14 @@ void Journal::write(const common::JournalEntry& entry) {
     append(record_);
     return;
   }
+  if (entry.kind == common::JournalEntry::Kind::kContactHash) {
+    msgs::ContactHash* hash = record_.mutable_contact_hash();
+    hash->set_tick(entry.tick);
+    hash->set_hash(entry.hash);
+    hash->set_events(entry.events);
+    append(record_);
+    return;
+  }
   const rigid::AcceptedCommand accepted = common::accepted_command(entry);
   if (on_command_) on_command_(accepted);
   if (file_) {

@@ -48,6 +48,7 @@ Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
       frozen_events_(static_cast<std::size_t>(driven_.world().body_count())),
       frozen_reported_(static_cast<std::size_t>(driven_.world().body_count()), 0) {
   if (!config_.output_lends_frames) common::shape_state_frame(driven_.world(), frame_);
+  if (driven_.world().static_part_count() > 0) common::reserve_contact_events(contacts_);
   paused_ = config_.mode == Mode::kLockstep;
 }
 
@@ -345,6 +346,7 @@ void Loop::do_reset() {
                         ReplyNote::kInterruptedByReset, done});
   }
   large_rotations_before_reset_ += driven_.world().large_rotation_steps();
+  contacts_dropped_before_reset_ += driven_.world().contact_events_dropped();
   driven_.reset();         // thaws the frozen bodies
   driven_.prepare_tick();  // the reset made every plan stale: remade now, not in the next tick
   frozen_seen_ = 0;
@@ -365,6 +367,7 @@ void Loop::step_tick() {
   const std::int64_t tick = driven_.tick();
   // A tick of a step request (every tick in lockstep) hands over each of its states.
   const bool paced = step_left_ > 0;
+  collect_contacts(paced);
   bool publish = tick % config_.publish_every == 0 || new_command_;
   new_command_ = false;
   bool step_done = false;
@@ -377,6 +380,33 @@ void Loop::step_tick() {
     output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
                         ControlKind::kStep, Outcome::kOk, tick, ReplyNote::kNone, step_total_});
   }
+}
+
+void Loop::collect_contacts(bool paced) {
+  const std::span<const physics::ContactEvent> events = driven_.world().contact_events();
+  if (events.empty()) return;
+  const std::int64_t tick = driven_.tick();
+  common::fill_contact_events(events, tick, static_cast<double>(tick) * config_.tick_dt, contacts_);
+  contacts_.dropped = contacts_dropped_before_reset_ + driven_.world().contact_events_dropped();
+  if (config_.hash_states) {
+    common::JournalEntry entry;
+    entry.kind = common::JournalEntry::Kind::kContactHash;
+    entry.tick = tick;
+    entry.hash = common::contact_hash(contacts_);
+    entry.events = static_cast<std::int32_t>(contacts_.event_count());
+    output_.journal(entry);
+  }
+  if (paced) {
+    // As wait_for_publishers: in slices, the heartbeat advancing, a stop ending the wait, and
+    // after kMaxPaceWaitNs the events go to whichever bus has room (the others count them lost).
+    const std::int64_t give_up = monotonic_ns() + kMaxPaceWaitNs;
+    while (!output_.wait_contacts_room(contacts_.event_count(),
+                                       std::min(monotonic_ns() + kMaxSleepSliceNs, give_up))) {
+      heartbeat_.fetch_add(1, std::memory_order_relaxed);
+      if (stop_.load(std::memory_order_acquire) || monotonic_ns() >= give_up) break;
+    }
+  }
+  output_.offer_contacts(contacts_);
 }
 
 void Loop::wait_for_publishers() {

@@ -17,7 +17,10 @@
 // (every tick in lockstep) publish every state publish_every promises: before handing over a
 // state the loop waits until the publishers have taken the previous one, so publishing paces the
 // steps instead of skipping states (bounded: see wait_for_publishers). A body the physics guard
-// freezes (physics/world.hpp) is counted in the summary and queued once for the log.
+// freezes (physics/world.hpp) is counted in the summary and queued once for the log. After each
+// tick's steps the world's contact events (a scene with static parts) go to the output as one
+// ContactEvents message for that tick, if there are any, and with hash_states their hash to the
+// journal; the ticks of a step request wait for the buses' room for them as they wait for a state.
 //
 // run() allocates nothing: everything is sized in the constructor (tests/loop proves it).
 #pragma once
@@ -130,6 +133,8 @@ class Loop {
   static constexpr std::int64_t kRestNs = 200'000;
   void roll_stats(std::int64_t now_ns);
   void note_frozen_bodies();
+  // The contact events of the tick just stepped, to the output (and their hash to the journal).
+  void collect_contacts(bool paced);
 
   const LoopConfig config_;
   common::DrivenWorld driven_;  // the world, its acting wrenches and the tick counter
@@ -163,6 +168,11 @@ class Loop {
   std::vector<std::uint8_t> frozen_reported_;  // by body id
   std::size_t frozen_seen_ = 0;
   std::int64_t large_rotations_before_reset_ = 0;  // the world's count restarts at each reset
+
+  // Contact events: the message each tick's events are written into (room for a full tick made
+  // once, for a world with static parts), and the physics' dropped events before the last reset.
+  rigid::ContactEvents contacts_;
+  std::int64_t contacts_dropped_before_reset_ = 0;
 
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> heartbeat_{0};

@@ -44,6 +44,16 @@ class LoopOutput : public ReplySink {
   // state that must not be skipped (lockstep, step requests). Allocates nothing. By default
   // (a test's recorder keeps every state) there is nothing to wait for.
   virtual bool wait_states_taken(std::int64_t /*deadline_ns*/) { return true; }
+  // The contact events of a tick (tick, sim_time, events, and in `dropped` those the physics
+  // could not keep since start), for every bus; only valid during the call (copy them). A bus
+  // without room for them drops them and counts them (contact_outbox.hpp). By default dropped.
+  virtual void offer_contacts(const rigid::ContactEvents& /*events*/) {}
+  // Waits until every bus has room for a tick of `events` events, or until `deadline_ns`
+  // (CLOCK_MONOTONIC); true if there is room. The loop calls it before the events of a tick that
+  // must not be skipped (lockstep, step requests), as wait_states_taken. Allocates nothing.
+  virtual bool wait_contacts_room(std::size_t /*events*/, std::int64_t /*deadline_ns*/) {
+    return true;
+  }
   // A command carried out, or a published state's hash, in the loop's order (journal_entry.hpp).
   // By default dropped: only the server keeps a journal.
   virtual void journal(const common::JournalEntry& /*entry*/) {}

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <string>
 
+#include "common/state_conversion.hpp"
 #include "loop/clock.hpp"
 #include "rigid/names.hpp"
 #include "util/thread_name.hpp"
@@ -36,12 +37,17 @@ std::string_view kind_name(rigid::ControlKind kind) {
 }  // namespace
 
 Publisher::Publisher(transport::Transport& transport, SharedStates& states, Log& log,
-                     std::size_t reply_capacity)
+                     std::size_t reply_capacity, bool contacts)
     : transport_(transport),
       log_(log),
       states_(states),
       reader_(states.add_reader()),
-      replies_(reply_capacity) {}
+      replies_(reply_capacity) {
+  if (contacts) {
+    contacts_ = std::make_unique<ContactOutbox>();
+    common::reserve_contact_events(contact_message_);
+  }
+}
 
 Publisher::Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
                      std::size_t reply_capacity)
@@ -120,6 +126,53 @@ bool Publisher::reply(const Reply& reply) {
   return true;
 }
 
+bool Publisher::offer_contacts(const rigid::ContactEvents& events, std::int64_t stamp_ns) {
+  if (contacts_ == nullptr || !contacts_->put(events, stamp_ns)) {
+    contact_events_lost_.fetch_add(static_cast<std::int64_t>(events.event_count()),
+                                   std::memory_order_relaxed);
+    return false;
+  }
+  wake();
+  return true;
+}
+
+bool Publisher::wait_contacts_room(std::size_t events, std::int64_t deadline_ns) {
+  if (contacts_ == nullptr) return true;
+  for (;;) {
+    const std::uint32_t seen = taken_.count();
+    if (contacts_->has_room(events)) return true;
+    if (monotonic_ns() >= deadline_ns) return false;
+    taken_.wait_until(seen, deadline_ns);
+  }
+}
+
+void Publisher::send_contacts() {
+  if (contacts_ == nullptr) return;
+  bool took = false;
+  while (contacts_->take(contact_message_)) {
+    took = true;
+    // What the physics could not keep (the loop's count) and what this bus lost so far.
+    contact_message_.dropped += contact_events_lost_.load(std::memory_order_relaxed);
+    const transport::PublishResult result = transport_.publish(contact_message_);
+    if (result == transport::PublishResult::kOk) {
+      contacts_sent_.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    contact_events_lost_.fetch_add(static_cast<std::int64_t>(contact_message_.event_count()),
+                                   std::memory_order_relaxed);
+    if (!logged_contact_failure_) {
+      logged_contact_failure_ = true;
+      log_.line("cannot publish contact events on " + std::string(to_string(transport_.bus())) +
+                (result == transport::PublishResult::kNotPermitted
+                     ? ": this identity may not publish rigid/contacts (a keystore made before it: "
+                       "rigid-keys add KEYSTORE rigidd --may serve --force, and init again for the "
+                       "governance); further events are counted as lost"
+                     : " (further failures are counted as lost events)"));
+    }
+  }
+  if (took) taken_.ring();  // a loop waiting for room may go on
+}
+
 void Publisher::send_replies() {
   Reply r;
   while (replies_.try_pop(r)) {
@@ -166,7 +219,10 @@ void Publisher::run() {
     // Read before the take: a stop requested after the last offer then still sends that state
     // (read after, a state offered while the previous one was being sent was dropped at exit).
     const bool stopping = stop_.load(std::memory_order_acquire);
-    // The state first: a client that gets a step's reply finds its state already sent.
+    // The contact events first, then the state: a client that gets a state has the events of
+    // its tick; and the state before the replies: a client that gets a step's reply finds its
+    // state already sent.
+    send_contacts();
     send_state();
     send_replies();
     if (const int priority = realtime_priority_.load(std::memory_order_acquire); priority > 0)

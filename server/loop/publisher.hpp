@@ -2,8 +2,11 @@
 // subscriber never delays a tick: the loop puts each state into a slot that every bus's
 // publisher reads (SharedStates: no copy per bus) and offers it through the publisher's mailbox,
 // which holds the newest state not yet taken (one it replaces before it was taken is counted as
-// skipped); replies are queued. The publisher wakes on a futex. One publisher per transport, so one
-// bus never waits for the other.
+// skipped); replies are queued, and so are contact events (ContactOutbox: every tick's, none
+// replaced; a tick without room is dropped and counted, and the count goes out in the next
+// message's `dropped`). The publisher sends the contact events first, then the state, then the
+// replies. It wakes on a futex. One publisher per transport, so one bus never waits for the
+// other.
 #pragma once
 
 #include <atomic>
@@ -13,6 +16,7 @@
 
 #include "loop/bounded_queue.hpp"
 #include "loop/command.hpp"
+#include "loop/contact_outbox.hpp"
 #include "loop/doorbell.hpp"
 #include "loop/histogram.hpp"
 #include "loop/log.hpp"
@@ -25,9 +29,9 @@ namespace rigid::loop {
 class Publisher {
  public:
   // Reads the states of `states` (shared with the other buses' publishers; it becomes one of its
-  // readers), which must outlive it.
+  // readers), which must outlive it. contacts: make a ContactOutbox (a world with static parts).
   Publisher(transport::Transport& transport, SharedStates& states, Log& log,
-            std::size_t reply_capacity = 256);
+            std::size_t reply_capacity = 256, bool contacts = false);
   // Alone: its own states, shaped like `shape` (the final number of bodies, so nothing grows).
   Publisher(transport::Transport& transport, const rigid::StateFrame& shape, Log& log,
             std::size_t reply_capacity = 256);
@@ -58,6 +62,12 @@ class Publisher {
   bool wait_taken(std::int64_t deadline_ns);
   // Any thread: queues a reply; false (and counted) if the reply queue is full.
   bool reply(const Reply& reply);
+  // Loop thread: queues a tick's contact events, stamped stamp_ns; false if there was no room
+  // (or no outbox): they are then dropped and counted. Allocates nothing.
+  bool offer_contacts(const rigid::ContactEvents& events, std::int64_t stamp_ns);
+  // Loop thread: waits until there is room for a tick of `events` events, or until `deadline_ns`;
+  // true if there is (always, without an outbox: there is nothing to wait for).
+  bool wait_contacts_room(std::size_t events, std::int64_t deadline_ns);
   // Says that the publisher's thread was just put at SCHED_FIFO `priority` (Server). From then on
   // the thread steps down to normal priority while it takes more than kRealtimeLimit of a CPU over
   // a second, and back up once it takes less than kRealtimeResume (realtime_share.hpp: a
@@ -74,6 +84,11 @@ class Publisher {
   std::int64_t states_sent() const { return states_sent_.load(std::memory_order_relaxed); }
   std::int64_t states_skipped() const { return states_skipped_.load(std::memory_order_relaxed); }
   std::int64_t replies_dropped() const { return replies_dropped_.load(std::memory_order_relaxed); }
+  // Contact events: messages sent, and events this bus lost (no room, or the bus refused them).
+  std::int64_t contacts_sent() const { return contacts_sent_.load(std::memory_order_relaxed); }
+  std::int64_t contact_events_lost() const {
+    return contact_events_lost_.load(std::memory_order_relaxed);
+  }
   // From a command's arrival to the moment the first state showing it was handed to the bus
   // (publish returned). Read after stop().
   const Histogram& command_to_state() const { return command_to_state_; }
@@ -86,6 +101,8 @@ class Publisher {
   void mind_realtime_share(int priority);
   // Publisher thread: sends the state in the mailbox, if any.
   void send_state();
+  // Publisher thread: sends every tick of contact events queued.
+  void send_contacts();
 
   // The mailbox: the slot offered and not yet taken (with kFresh), or an old slot (without).
   static constexpr std::uint32_t kFresh = 1u << 31;
@@ -105,7 +122,12 @@ class Publisher {
   std::atomic<std::int64_t> states_sent_{0};
   std::atomic<std::int64_t> states_skipped_{0};
   std::atomic<std::int64_t> replies_dropped_{0};
+  std::unique_ptr<ContactOutbox> contacts_;  // null: no static parts, no contact events
+  rigid::ContactEvents contact_message_;     // publisher thread: the message sent, reused
+  std::atomic<std::int64_t> contacts_sent_{0};
+  std::atomic<std::int64_t> contact_events_lost_{0};
   bool logged_send_failure_ = false;       // publisher thread only
+  bool logged_contact_failure_ = false;    // publisher thread only
   std::atomic<int> realtime_priority_{0};  // 0: not at real-time priority
   RealtimeShare realtime_share_{kRealtimeLimit, kRealtimeResume, 1'000'000'000};  // its thread
   int priority_changes_logged_ = 0;                                               // its thread

@@ -137,7 +137,9 @@ transport::Receiver& Server::receiver(rigid::Bus bus) {
 }
 
 void Server::add_transport(std::unique_ptr<transport::Transport> transport) {
-  publishers_.push_back(std::make_unique<Publisher>(*transport, *states_, log_));
+  // Contact events only where there can be any: a scene without static parts has no outbox.
+  publishers_.push_back(std::make_unique<Publisher>(*transport, *states_, log_, 256,
+                                                    loop_.world().static_part_count() > 0));
   by_bus_[bus_index(transport->bus())].store(publishers_.back().get(), std::memory_order_release);
   transports_.push_back(std::move(transport));
 }
@@ -302,6 +304,19 @@ bool Server::wait_states_taken(std::int64_t deadline_ns) {
   return true;
 }
 
+void Server::offer_contacts(const rigid::ContactEvents& events) {
+  // One stamp for every bus, as a state's.
+  const std::int64_t stamp = realtime_ns();
+  for (auto& p : publishers_)
+    (void)p->offer_contacts(events, stamp);  // a bus without room counts its loss
+}
+
+bool Server::wait_contacts_room(std::size_t events, std::int64_t deadline_ns) {
+  for (auto& p : publishers_)
+    if (!p->wait_contacts_room(events, deadline_ns)) return false;
+  return true;
+}
+
 void Server::reply(const Reply& reply) {
   Publisher* p = by_bus_[bus_index(reply.bus)].load(std::memory_order_acquire);
   if (p != nullptr) p->reply(reply);
@@ -384,6 +399,10 @@ std::string Server::closing_line() const {
     line += " " + bus + "_states_sent=" + std::to_string(p->states_sent()) + " " + bus +
             "_states_skipped=" + std::to_string(p->states_skipped()) + " " + bus +
             "_priority_step_downs=" + std::to_string(p->priority_step_downs());
+    if (loop_.world().static_part_count() > 0) {
+      line += " " + bus + "_contact_messages_sent=" + std::to_string(p->contacts_sent()) + " " +
+              bus + "_contact_events_lost=" + std::to_string(p->contact_events_lost());
+    }
     const Histogram& h = p->command_to_state();
     line += " " + bus + "_command_to_state_us p50=" + us(h.percentile(0.5)) +
             " p99=" + us(h.percentile(0.99)) + " max=" + us(h.max()) +
@@ -392,6 +411,10 @@ std::string Server::closing_line() const {
   line += " commands_accepted=" + std::to_string(loop_.commands_accepted()) +
           " commands_rejected=" + std::to_string(rejects_.total());
   line += " bodies_frozen=" + std::to_string(loop_.world().frozen_bodies().size());
+  if (loop_.world().static_part_count() > 0) {
+    line += " contact_events_dropped_by_physics=" +
+            std::to_string(loop_.world().contact_events_dropped());
+  }
   return line;
 }
 

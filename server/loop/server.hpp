@@ -102,6 +102,8 @@ class Server final : private LoopOutput {
   rigid::StateFrame* lend_frame() override;
   void hand_over_lent(std::int64_t command_arrival_ns) override;
   bool wait_states_taken(std::int64_t deadline_ns) override;
+  void offer_contacts(const rigid::ContactEvents& events) override;
+  bool wait_contacts_room(std::size_t events, std::int64_t deadline_ns) override;
   void reply(const Reply& reply) override;
   void journal(const common::JournalEntry& entry) override { journal_->push(entry); }
   void publish_accepted(const rigid::AcceptedCommand& accepted);

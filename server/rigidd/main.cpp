@@ -91,19 +91,15 @@ transport::ros::Options ros_options(const scene::Scene& scene, const rigidd::Rig
   for (const physics::BodySpec& b : scene.world.bodies)
     ros.body_names.push_back(b.name);
   // The static parts, for /tf_static and the markers: a plane's frame at its point nearest the
-  // origin, z along its normal n (the rotation from z to n: (1 + n_z, -n_y, n_x, 0) normalised,
-  // or a half turn about x for n = -z); a fixed shape's at its pose.
+  // origin, z along its normal (common::plane_frame, as SceneInfo carries it); a fixed shape's at
+  // its pose.
   for (const physics::PlaneSpec& p : scene.world.planes) {
     transport::ros::StaticFrame f;
     f.name = p.name;
     f.plane = true;
-    const physics::Vec3 o = p.offset * p.n_W;
-    f.p_WS = {o.x(), o.y(), o.z()};
-    const double w = 1.0 + p.n_W.z();
-    const double norm = std::hypot(w, p.n_W.x(), p.n_W.y());
-    f.q_WS_wxyz = norm < 1e-12
-                      ? std::array<double, 4>{0.0, 1.0, 0.0, 0.0}
-                      : std::array<double, 4>{w / norm, -p.n_W.y() / norm, p.n_W.x() / norm, 0.0};
+    const common::PlaneFrame s = common::plane_frame(p);
+    f.p_WS = {s.p_WS.x(), s.p_WS.y(), s.p_WS.z()};
+    f.q_WS_wxyz = {s.q_WS.w(), s.q_WS.x(), s.q_WS.y(), s.q_WS.z()};
     ros.static_frames.push_back(std::move(f));
   }
   for (const physics::StaticSpec& s : scene.world.statics) {

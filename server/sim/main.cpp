@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     }
     if (options.replay) {
       const common::ReplayReport report =
-          common::replay({*options.replay, options.scene, options.csv});
+          common::replay({*options.replay, options.scene, options.csv, options.contacts_csv});
       for (const std::string& w : report.warnings)
         std::cerr << "rigid-sim: warning: " << w << '\n';
       common::print_replay(std::cout, report);

@@ -80,7 +80,7 @@ SimOptions parse_options(std::span<const std::string_view> args) {
       value = arg.substr(eq + 1);
     }
     if (name != "--duration" && name != "--integrator" && name != "--dt" && name != "--csv" &&
-        name != "--every" && name != "--replay") {
+        name != "--every" && name != "--replay" && name != "--contacts-csv") {
       throw UsageError("unknown option " + quoted(name) + " (see --help)");
     }
     if (!value) {
@@ -110,12 +110,18 @@ SimOptions parse_options(std::span<const std::string_view> args) {
     } else if (name == "--csv") {
       if (value->empty()) throw UsageError("--csv: expected a file name, got ''");
       o.csv = std::string(*value);
+    } else if (name == "--contacts-csv") {
+      if (value->empty()) throw UsageError("--contacts-csv: expected a file name, got ''");
+      o.contacts_csv = std::string(*value);
     } else {
       o.every = parse_count(name, *value);
     }
   }
   if (!have_scene && !o.help && !o.list_integrators && !o.replay) {
     throw UsageError("missing the scene file (see --help)");
+  }
+  if (o.csv && o.contacts_csv && *o.csv == *o.contacts_csv) {
+    throw UsageError("--contacts-csv: " + quoted(*o.contacts_csv) + " is also the --csv file");
   }
   if (o.replay) {
     // A replay runs the journal's session as it ran: its length, its integrator, its step.
@@ -135,7 +141,8 @@ SimOptions parse_options(std::span<const std::string_view> args) {
 
 std::string usage() {
   return R"(Usage: rigid-sim SCENE [--duration S] [--integrator NAME] [--dt S] [--csv OUT] [--every N]
-       rigid-sim [SCENE] --replay JOURNAL [--csv OUT]
+                 [--contacts-csv OUT]
+       rigid-sim [SCENE] --replay JOURNAL [--csv OUT] [--contacts-csv OUT]
        rigid-sim --list-integrators | --help
 
 Runs the rigid-body scene SCENE (protobuf text format) without real time and prints, per body,
@@ -150,15 +157,20 @@ time and the cost per body-step.
                        17 significant digits); OUT appears only when the run succeeds
   --every N            a CSV row every N ticks of `substeps` physics steps
                        (default: the scene's publish_every)
+  --contacts-csv OUT   write the contact events with static parts to OUT, a row per event:
+                       tick,t,kind,body,part,px,py,pz,nx,ny,nz,jx,jy,jz (kind impact, resting,
+                       sliding, rolling or separate; t the event's exact time; world frame;
+                       17 significant digits); OUT appears only when the run succeeds
   --replay JOURNAL     re-run the session rigidd journaled (rigidd --journal): apply each
                        command at the tick it took effect, compare every state hash, and report
                        the first divergence with its tick. SCENE, if given, must be the scene
                        the journal holds a copy of (by default that copy is used). With --csv, a
-                       row per body for every state the journal hashed
+                       row per body for every state the journal hashed; with --contacts-csv,
+                       every contact event, each tick's checked against the journal's hash
   --list-integrators   list the integrators and what each promises; * marks the default
   -h, --help           show this help
 
-Exit status: 0 on success (replay: every state reproduced bit for bit), 1 if the CSV or the
+Exit status: 0 on success (replay: every state and contact event reproduced bit for bit), 1 if the CSV or the
 journal cannot be written or read, 2 for a bad command line or scene, 3 a replay diverged,
 4 a replay stopped at entries rigidd lost (its journal is incomplete).
 )";

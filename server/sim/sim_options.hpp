@@ -12,14 +12,15 @@
 namespace rigid::sim {
 
 struct SimOptions {
-  std::string scene;                      // the scene file
-  double duration = 10.0;                 // simulated seconds, >= 0
-  std::optional<std::string> integrator;  // overrides the scene's integrator
-  std::optional<double> dt;               // overrides the scene's physics step (s), > 0
-  std::optional<std::string> csv;         // write states to this file
-  std::optional<std::int64_t> every;      // CSV row every N ticks; default: scene's publish_every
-  std::optional<std::string> replay;      // re-run this journal (rigidd --journal); scene optional
-  bool duration_given = false;            // --duration was on the command line
+  std::string scene;                        // the scene file
+  double duration = 10.0;                   // simulated seconds, >= 0
+  std::optional<std::string> integrator;    // overrides the scene's integrator
+  std::optional<double> dt;                 // overrides the scene's physics step (s), > 0
+  std::optional<std::string> csv;           // write states to this file
+  std::optional<std::string> contacts_csv;  // write contact events to this file
+  std::optional<std::int64_t> every;        // CSV row every N ticks; default: scene's publish_every
+  std::optional<std::string> replay;  // re-run this journal (rigidd --journal); scene optional
+  bool duration_given = false;        // --duration was on the command line
   bool list_integrators = false;
   bool help = false;
 };

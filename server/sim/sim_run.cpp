@@ -10,6 +10,8 @@
 #include <optional>
 #include <ostream>
 
+#include "common/contact_csv.hpp"
+#include "common/state_conversion.hpp"
 #include "common/world_csv.hpp"
 #include "util/atomic_file.hpp"
 
@@ -106,19 +108,42 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
     r.csv_rows += world.body_count();
   }
 
+  std::unique_ptr<util::AtomicFile> contacts_csv;
+  std::string contact_rows;
+  rigid::ContactEvents contacts;
+  common::ContactNames contact_names;
+  if (options.contacts_csv) {
+    contacts_csv = std::make_unique<util::AtomicFile>(*options.contacts_csv);
+    r.contacts_csv = *options.contacts_csv;
+    contact_rows += common::kContactCsvHeader;
+    contact_names = common::ContactNames(common::describe_scene(scene, world));
+  }
+
   // Without a CSV the whole run is one call; with one, a row every `every` ticks of `substeps`
-  // steps, and one at the end if the run does not end on a row.
-  const std::int64_t stride =
-      csv ? std::max<std::int64_t>(
-                1, std::min<std::int64_t>(r.every, INT64_MAX / scene.substeps) * scene.substeps)
-          : std::max<std::int64_t>(steps, 1);
+  // steps, and one at the end if the run does not end on a row; with the contact CSV, a call a
+  // tick, whose events are that tick's (as rigidd publishes them).
+  const std::int64_t row_stride = std::max<std::int64_t>(
+      1, std::min<std::int64_t>(r.every, INT64_MAX / scene.substeps) * scene.substeps);
+  const std::int64_t stride = contacts_csv ? std::max<std::int64_t>(scene.substeps, 1)
+                              : csv        ? row_stride
+                                           : std::max<std::int64_t>(steps, 1);
   for (std::int64_t done = 0; done < steps;) {
     const std::int64_t n = std::min(stride, steps - done);
     const auto t0 = Clock::now();
     world.step(n);
     r.step_seconds += seconds_since(t0);
     done += n;
-    if (csv) {
+    if (contacts_csv && !world.contact_events().empty()) {
+      const std::int64_t tick = (done + scene.substeps - 1) / scene.substeps;
+      common::fill_contact_events(world.contact_events(), tick, world.time(), contacts);
+      r.contact_events += static_cast<std::int64_t>(contacts.event_count());
+      common::append_contact_rows(contacts, contact_names, contact_rows);
+      if (contact_rows.size() >= kCsvChunk) {
+        contacts_csv->write(contact_rows);
+        contact_rows.clear();
+      }
+    }
+    if (csv && (done % row_stride == 0 || done == steps)) {
       common::append_state_rows(world, buffer);
       r.csv_rows += world.body_count();
       if (buffer.size() >= kCsvChunk) {
@@ -131,6 +156,11 @@ RunSummary run(const scene::Scene& scene, const SimOptions& options) {
     csv->write(buffer);
     csv->commit();
   }
+  if (contacts_csv) {
+    contacts_csv->write(contact_rows);
+    contacts_csv->commit();
+  }
+  r.contact_events_dropped = world.contact_events_dropped();
 
   for (int id = 0; id < world.body_count(); ++id) {
     BodySummary& b = r.bodies[static_cast<std::size_t>(id)];
@@ -177,6 +207,15 @@ void print_summary(std::ostream& out, const RunSummary& r) {
   if (!r.csv.empty()) {
     out << fmt("csv: %s, %lld rows (a row per body every %lld ticks)\n", r.csv.c_str(),
                static_cast<long long>(r.csv_rows), static_cast<long long>(r.every));
+  }
+  if (!r.contacts_csv.empty()) {
+    out << fmt("contacts csv: %s, %lld events", r.contacts_csv.c_str(),
+               static_cast<long long>(r.contact_events));
+    if (r.contact_events_dropped > 0) {
+      out << fmt(" (%lld more dropped: over 4096 in a tick)",
+                 static_cast<long long>(r.contact_events_dropped));
+    }
+    out << '\n';
   }
 }
 

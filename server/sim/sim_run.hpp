@@ -30,12 +30,15 @@ struct RunSummary {
   std::int64_t steps = 0;
   double t_end = 0.0;
   std::vector<BodySummary> bodies;
-  double energy0 = 0.0, energy = 0.0;  // World::total_energy at t = 0 and at the end
-  double wall_seconds = 0.0;           // the whole run, output included
-  double step_seconds = 0.0;           // inside World::step only
-  std::string csv;                     // empty without --csv
-  std::int64_t csv_rows = 0;           // data rows, header excluded
-  std::int64_t every = 0;              // ticks between CSV rows
+  double energy0 = 0.0, energy = 0.0;       // World::total_energy at t = 0 and at the end
+  double wall_seconds = 0.0;                // the whole run, output included
+  double step_seconds = 0.0;                // inside World::step only
+  std::string csv;                          // empty without --csv
+  std::int64_t csv_rows = 0;                // data rows, header excluded
+  std::int64_t every = 0;                   // ticks between CSV rows
+  std::string contacts_csv;                 // empty without --contacts-csv
+  std::int64_t contact_events = 0;          // over the run
+  std::int64_t contact_events_dropped = 0;  // beyond the physics' 4096 a tick
 };
 
 // Runs `scene` as `options` say (duration, integrator and dt overrides, CSV). The number of steps

@@ -18,6 +18,7 @@ class NullTransport : public Transport {
   PublishResult publish(const rigid::ControlReply&) override { return ok(); }
   PublishResult publish(const rigid::WrenchCommand&) override { return ok(); }
   PublishResult publish(const rigid::ControlCommand&) override { return ok(); }
+  PublishResult publish(const rigid::ContactEvents&) override { return ok(); }
   rigid::TransportCounts counts() const override { return {}; }
 
  protected:

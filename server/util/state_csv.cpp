@@ -5,17 +5,13 @@
 #include <charconv>
 
 namespace rigid::util {
-namespace {
 
-// Same digits as printf("%.17g"), but independent of the C locale's decimal point.
 void append_number(std::string& out, double x) {
   std::array<char, 32> buf{};
   const auto r =
       std::to_chars(buf.data(), buf.data() + buf.size(), x, std::chars_format::general, 17);
   out.append(buf.data(), r.ptr);
 }
-
-}  // namespace
 
 void append_state_row(std::string& out, double t, std::string_view body,
                       const std::array<double, 13>& values) {

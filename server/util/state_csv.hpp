@@ -11,6 +11,10 @@ namespace rigid::util {
 
 inline constexpr std::string_view kStateCsvHeader = "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
 
+// Appends x with 17 significant digits (as printf's %.17g, whatever the C locale's decimal point):
+// it reads back as the same double.
+void append_number(std::string& out, double x);
+
 // Appends one row: t, the body's name, then x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz.
 void append_state_row(std::string& out, double t, std::string_view body,
                       const std::array<double, 13>& values);

@@ -3,6 +3,9 @@
 // nothing on the loop thread while it does; rigid-sim's replay of that file reproduces every
 // journaled state bit for bit. Then the failure reports: a changed command is a divergence with
 // its tick (exit 3), a gap stops the replay (exit 4), a damaged tail is replayed up to the damage.
+// And a contact-rich run (bodies landing, bouncing, resting and pushed about on a ground plane and
+// a ramp, a reset among them): the replay hands over exactly the contact events the loop
+// published, bit for bit, and a tick's events changed, missing or added are divergences.
 //
 // Its own program: operator new is replaced (tests/support/allocation_counter.hpp) to count the
 // allocations on the loop thread.
@@ -12,9 +15,11 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <filesystem>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "allocation_counter.hpp"
@@ -305,6 +310,225 @@ TEST_F(JournalReplay, TheJournalHoldsItsSceneAndAnotherSceneIsRefused) {
   sim::testing::write_file(same, kScene);
   o.scene = same;
   EXPECT_EQ(common::replay(o).exit_status(), 0);
+}
+
+// ---- Contact events ----
+
+const std::string kContactScene = R"(
+world { rate_hz: 500 substeps: 2 publish_every: 5 limits { max_ttl: 10 }
+        material { restitution: 0.5 friction: 0.6 } }
+plane { name: "ground" normal { z: 1 } }
+static { name: "ramp" shape { box { x: 2 y: 1 z: 0.1 } } position { x: 2 z: 0.4 }
+         orientation { w: 0.9659258262890683 y: 0.25881904510252074 } material { friction: 0.2 } }
+body { name: "ball" density: 500 shape { sphere { radius: 0.1 } } position { z: 0.5 }
+       velocity { x: 0.5 } material { restitution: 0.8 } }
+body { name: "brick" mass: 1 shape { box { x: 0.2 y: 0.1 z: 0.05 } } position { x: 1.6 z: 0.9 } }
+body { name: "pill" mass: 1 shape { capsule { radius: 0.05 length: 0.2 } } position { x: -1 z: 0.3 }
+       angular_velocity { y: 8 } }
+body { name: "can" mass: 1 shape { cylinder { radius: 0.1 length: 0.3 } } position { y: 1 z: 0.4 }
+       velocity { y: -1 } angular_velocity { z: 10 } }
+body { name: "dot" mass: 1 position { x: -2 z: 0.2 } velocity { x: 1 } }
+)";
+
+// Keeps every tick's contact events the loop hands over, as the buses would send them.
+class ContactJournalOutput final : public LoopOutput {
+ public:
+  explicit ContactJournalOutput(Journal& journal) : journal_(journal) {}
+  void offer_state(const rigid::StateFrame&, std::int64_t) override {}
+  void reply(const Reply&) override { replies.fetch_add(1, std::memory_order_release); }
+  void journal(const common::JournalEntry& e) override { journal_.push(e); }
+  void offer_contacts(const rigid::ContactEvents& e) override { live.push_back(e); }
+  std::vector<rigid::ContactEvents> live;  // loop thread until it stops
+  std::atomic<int> replies{0};             // a step's comes when its last tick is done
+
+ private:
+  Journal& journal_;
+};
+
+// The loop in lockstep, journaling: steps of a random length, random pushes on random bodies
+// (some last across steps), a reset halfway.
+std::vector<rigid::ContactEvents> journal_a_contact_run(const std::string& path) {
+  const scene::Scene s = scene::parse_scene(kContactScene, "contacts.pbtxt");
+  MemoryLog log;
+  msgs::LogHeader h = header(s);
+  h.set_scene_text(kContactScene);
+  Journal journal({path, 1 << 16}, h, log, [](const rigid::AcceptedCommand&) {});
+  ContactJournalOutput out(journal);
+  LoopConfig config;
+  config.mode = rigid::Mode::kLockstep;
+  config.tick_dt = 1.0 / s.rate_hz;
+  config.substeps = s.substeps;
+  config.publish_every = s.publish_every;
+  config.wrench_capacity = 64;
+  config.hash_states = true;
+  BoundedQueue<Command> queue(256);
+  Doorbell doorbell;
+  RejectCounters rejects;
+  Loop loop(s.world, config, queue, doorbell, rejects, out);
+  journal.start();
+  std::thread loop_thread([&] { loop.run(); });
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::int64_t seq = 1, control_seq = 1;
+  const auto push = [&](const Command& c) {
+    while (!queue.try_push(c))
+      std::this_thread::sleep_for(1ms);
+    doorbell.ring();
+  };
+  for (int round = 0; round < 60; ++round) {
+    Command c;
+    Wrench& w = c.wrench;
+    w.source = 1;
+    w.seq = seq++;
+    w.body = static_cast<std::int32_t>(random() % 5);
+    w.key = 0;
+    w.force = {8 * unit(random), 8 * unit(random), 12 * unit(random)};
+    w.point = {0.05 * unit(random), 0.05 * unit(random), 0.0};
+    w.ttl = 0.002 * static_cast<double>(random() % 40);
+    push(c);
+    Command control;
+    control.kind = Command::Kind::kControl;
+    control.control =
+        Control{9, control_seq++, round == 30 ? ControlKind::kReset : ControlKind::kStep,
+                static_cast<std::int64_t>(20 + random() % 60), 0};
+    push(control);
+    // Steps run one request at a time: wait for this one's reply (the run is then the same every
+    // time: each wrench acts from the tick after the previous step's last).
+    const auto give_up = std::chrono::steady_clock::now() + 10s;
+    while (out.replies.load(std::memory_order_acquire) < round + 1 &&
+           std::chrono::steady_clock::now() < give_up)
+      std::this_thread::sleep_for(1ms);
+  }
+  std::this_thread::sleep_for(50ms);
+  loop.request_stop();
+  loop_thread.join();
+  journal.stop();
+  return std::move(out.live);
+}
+
+// Bit patterns, so that -0.0 and 0.0 (or two NaNs) are told apart.
+std::vector<std::uint64_t> bits(const rigid::ContactEvents& e) {
+  std::vector<std::uint64_t> out{static_cast<std::uint64_t>(e.tick),
+                                 std::bit_cast<std::uint64_t>(e.sim_time)};
+  for (std::size_t i = 0; i < e.event_count(); ++i) {
+    out.push_back(static_cast<std::uint64_t>(e.kinds[i]));
+    out.push_back(static_cast<std::uint64_t>(e.bodies[i]));
+    out.push_back(static_cast<std::uint64_t>(e.parts[i]));
+    out.push_back(std::bit_cast<std::uint64_t>(e.times[i]));
+  }
+  for (const std::vector<double>* v : {&e.position, &e.normal, &e.impulse})
+    for (const double x : *v)
+      out.push_back(std::bit_cast<std::uint64_t>(x));
+  return out;
+}
+
+class ContactJournalReplay : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new std::filesystem::path(std::filesystem::temp_directory_path() /
+                                     ("rigid_contact_journal_test_" + std::to_string(::getpid())));
+    std::filesystem::remove_all(*dir_);
+    std::filesystem::create_directories(*dir_);
+    path_ = file("contacts.rlog");
+    live_ = new std::vector<rigid::ContactEvents>(journal_a_contact_run(path_));
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*dir_);
+    delete dir_;
+    delete live_;
+  }
+  static std::string file(const std::string& name) { return (*dir_ / name).string(); }
+  static common::ReplayReport replay_collecting(const std::string& path,
+                                                std::vector<rigid::ContactEvents>* out) {
+    common::ReplayOptions o;
+    o.journal = path;
+    return common::replay(o, {}, [out](const rigid::ContactEvents& e) { out->push_back(e); });
+  }
+  static std::filesystem::path* dir_;
+  static std::string path_;
+  static std::vector<rigid::ContactEvents>* live_;
+};
+std::filesystem::path* ContactJournalReplay::dir_ = nullptr;
+std::string ContactJournalReplay::path_;
+std::vector<rigid::ContactEvents>* ContactJournalReplay::live_ = nullptr;
+
+TEST_F(ContactJournalReplay, TheReplayHandsOverTheLiveContactEventsBitForBit) {
+  std::size_t events = 0;
+  bool impact = false, resting = false, sliding_or_rolling = false, separate = false;
+  for (const rigid::ContactEvents& e : *live_) {
+    events += e.event_count();
+    for (const rigid::ContactKind k : e.kinds) {
+      impact |= k == rigid::ContactKind::kImpact;
+      resting |= k == rigid::ContactKind::kResting;
+      sliding_or_rolling |= k == rigid::ContactKind::kSliding || k == rigid::ContactKind::kRolling;
+      separate |= k == rigid::ContactKind::kSeparate;
+    }
+  }
+  // The run is contact-rich: every kind of event, in many ticks.
+  EXPECT_GT(live_->size(), 30u);
+  EXPECT_GT(events, 60u);
+  EXPECT_TRUE(impact && resting && sliding_or_rolling && separate);
+
+  std::vector<rigid::ContactEvents> replayed;
+  const common::ReplayReport r = replay_collecting(path_, &replayed);
+  ASSERT_EQ(r.exit_status(), 0) << (r.divergence ? r.divergence->what : "");
+  EXPECT_GE(r.resets, 1);
+  EXPECT_EQ(r.contact_hashes_compared, static_cast<std::int64_t>(live_->size()));
+  EXPECT_EQ(r.contact_events, static_cast<std::int64_t>(events));
+  ASSERT_EQ(replayed.size(), live_->size());
+  for (std::size_t i = 0; i < replayed.size(); ++i)
+    ASSERT_EQ(bits(replayed[i]), bits((*live_)[i])) << "tick " << (*live_)[i].tick;
+}
+
+TEST_F(ContactJournalReplay, ChangedMissingOrAddedContactHashesAreDivergences) {
+  const std::vector<msgs::LogRecord> records = read_all(path_);
+  std::size_t at = 0;
+  for (std::size_t i = records.size() / 2; i < records.size() && at == 0; ++i)
+    if (records[i].has_contact_hash()) at = i;
+  ASSERT_GT(at, 0u);
+  const std::int64_t tick = records[at].contact_hash().tick();
+  std::vector<rigid::ContactEvents> ignored;
+
+  std::vector<msgs::LogRecord> changed = records;
+  changed[at].mutable_contact_hash()->set_hash(changed[at].contact_hash().hash() ^ 1);
+  write_all(file("changed.rlog"), changed);
+  common::ReplayReport r = replay_collecting(file("changed.rlog"), &ignored);
+  EXPECT_EQ(r.exit_status(), 3);
+  ASSERT_TRUE(r.divergence);
+  EXPECT_EQ(r.divergence->tick, tick);
+  EXPECT_NE(r.divergence->what.find("contact events hash mismatch"), std::string::npos);
+
+  std::vector<msgs::LogRecord> missing = records;
+  missing.erase(missing.begin() + static_cast<std::ptrdiff_t>(at));
+  write_all(file("missing.rlog"), missing);
+  r = replay_collecting(file("missing.rlog"), &ignored);
+  EXPECT_EQ(r.exit_status(), 3);
+  ASSERT_TRUE(r.divergence);
+  EXPECT_EQ(r.divergence->tick, tick);
+  EXPECT_NE(r.divergence->what.find("the journal none"), std::string::npos) << r.divergence->what;
+
+  // A tick without events given a contact hash: find a state hash whose tick has none.
+  std::set<std::int64_t> with_events;
+  for (const msgs::LogRecord& rec : records)
+    if (rec.has_contact_hash()) with_events.insert(rec.contact_hash().tick());
+  std::size_t quiet = 0;
+  for (std::size_t i = 1; i < records.size() && quiet == 0; ++i)
+    if (records[i].has_state_hash() && records[i].state_hash().tick() > 0 &&
+        !with_events.contains(records[i].state_hash().tick()))
+      quiet = i;
+  ASSERT_GT(quiet, 0u);
+  std::vector<msgs::LogRecord> added = records;
+  msgs::LogRecord extra;
+  extra.mutable_contact_hash()->set_tick(records[quiet].state_hash().tick());
+  extra.mutable_contact_hash()->set_hash(42);
+  extra.mutable_contact_hash()->set_events(1);
+  added.insert(added.begin() + static_cast<std::ptrdiff_t>(quiet), extra);
+  write_all(file("added.rlog"), added);
+  r = replay_collecting(file("added.rlog"), &ignored);
+  EXPECT_EQ(r.exit_status(), 3);
+  ASSERT_TRUE(r.divergence);
+  EXPECT_EQ(r.divergence->tick, records[quiet].state_hash().tick());
+  EXPECT_NE(r.divergence->what.find("the replay none"), std::string::npos) << r.divergence->what;
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // "No allocation on the loop thread after start-up", proved: operator new is replaced in this test
 // program (tests/support/allocation_counter.hpp, every form) to count the allocations made on the
 // thread that runs Loop::run(), while the loop is driven through everything it does: ticks in each
-// mode, wrenches (new, replaced, expiring, stale), every control request, resets, refusals, and the
-// hand-off to real Publishers (over a fake bus).
+// mode, wrenches (new, replaced, expiring, stale), every control request, resets, refusals, contact
+// events, and the hand-off to real Publishers (over a fake bus).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -57,6 +57,15 @@ class PublishingRecorder : public testing::Recorder {
     a_.reply(r);
     Recorder::reply(r);
   }
+  // As the server: a tick's contact events queued for both buses.
+  void offer_contacts(const rigid::ContactEvents& e) override {
+    (void)a_.offer_contacts(e, 1);
+    (void)b_.offer_contacts(e, 1);
+    Recorder::offer_contacts(e);
+  }
+  bool wait_contacts_room(std::size_t events, std::int64_t deadline_ns) override {
+    return a_.wait_contacts_room(events, deadline_ns) && b_.wait_contacts_room(events, deadline_ns);
+  }
 
  private:
   SharedStates& states_;
@@ -89,6 +98,25 @@ body { name: "sled" mass: 1 linear_drag: 5000 use_gravity: false velocity { x: 1
 force { body: "rocket" force { z: 10 } point { x: 0.02 z: -0.5 } frame: BODY }
 )";
 
+// Bodies dropped, thrown and spun onto a ground plane and a tilted static box (with the stream's
+// wrenches pushing them about): contact events in many ticks, rests, slides and separations.
+const char* kContactScene = R"(
+world { rate_hz: 1000 substeps: 2 publish_every: 10 limits { max_ttl: 10 }
+        material { restitution: 0.4 friction: 0.6 } }
+plane { name: "ground" normal { z: 1 } }
+static { name: "ramp" shape { box { x: 1 y: 1 z: 0.1 } } position { x: 2 z: 0.3 }
+         orientation { w: 0.9659258262890683 y: 0.25881904510252074 } }
+body { name: "puck" mass: 2 position { z: 0.001 } velocity { x: 0.5 z: -0.5 } }
+body { name: "ball" density: 500 shape { sphere { radius: 0.1 } } position { z: 0.102 }
+       velocity { x: 1 z: -1 } material { restitution: 0.9 } }
+body { name: "brick" mass: 1 shape { box { x: 0.2 y: 0.1 z: 0.05 } } position { x: -1 z: 0.026 }
+       velocity { x: 2 } angular_velocity { x: 2 } }
+body { name: "pill" mass: 1 shape { capsule { radius: 0.05 length: 0.2 } } position { x: -2 z: 0.06 }
+       velocity { z: -2 } angular_velocity { y: 8 } material { restitution: 0.9 } }
+body { name: "can" mass: 1 shape { cylinder { radius: 0.1 length: 0.3 } } position { x: 2 z: 0.62 }
+       velocity { y: -1 z: -3 } angular_velocity { z: 10 } }
+)";
+
 Wrench make_wrench(std::int64_t source, std::int64_t seq, std::int32_t body, std::int32_t key,
                    double ttl) {
   Wrench w;
@@ -110,8 +138,8 @@ struct Rig {
   Rig(const scene::Scene& s, Mode m, bool hash_states)
       : shape(shaped(s)),
         states(shape),
-        a(bus_a, states, log),
-        b(bus_b, states, log),
+        a(bus_a, states, log, 256, has_parts(s)),
+        b(bus_b, states, log, 256, has_parts(s)),
         out(states, a, b),
         loop(s.world, config(s, m, hash_states), queue, doorbell, rejects, out) {
     out.last = shape;
@@ -121,6 +149,9 @@ struct Rig {
     c.hash_states = hash_states;
     c.output_lends_frames = true;  // as the server runs it
     return c;
+  }
+  static bool has_parts(const scene::Scene& s) {
+    return !s.world.planes.empty() || !s.world.statics.empty();
   }
   static rigid::StateFrame shaped(const scene::Scene& s) {
     rigid::StateFrame f;
@@ -235,6 +266,11 @@ void expect_no_allocations(Mode mode, bool journaling = false, const char* scene
   EXPECT_GT(rig.out.replies.size(), 20u);
   EXPECT_GT(rig.a.states_sent(), 10);
   EXPECT_GT(rig.b.states_sent(), 10);
+  if (scene == kContactScene) {
+    EXPECT_GT(rig.out.contact_ticks, 10) << "ticks with contact events";
+    EXPECT_GT(rig.a.contacts_sent(), 10);
+    EXPECT_GT(rig.b.contacts_sent(), 10);
+  }
   if (scene == kDivergingScene) {
     FrozenBody f;
     ASSERT_TRUE(rig.loop.take_frozen(f)) << "the sled was never frozen";
@@ -261,6 +297,18 @@ TEST(LoopAllocation, JournalingAllocatesNothingOnTheLoopThread) {
 
 TEST(LoopAllocation, AFrozenBodyAllocatesNothingOnTheLoopThread) {
   expect_no_allocations(Mode::kFast, false, kDivergingScene);
+}
+
+TEST(LoopAllocation, ContactEventsAllocateNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kFast, false, kContactScene);
+}
+
+TEST(LoopAllocation, ContactEventsInLockstepAllocateNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kLockstep, false, kContactScene);
+}
+
+TEST(LoopAllocation, JournalingContactEventsAllocatesNothingOnTheLoopThread) {
+  expect_no_allocations(Mode::kFast, true, kContactScene);
 }
 
 TEST(LoopAllocation, TheCounterSeesAllocations) {

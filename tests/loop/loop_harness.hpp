@@ -26,6 +26,7 @@ class Recorder : public LoopOutput {
     ticks.reserve(1 << 20);
     tick_ns.reserve(1 << 20);
     replies.reserve(1 << 12);
+    contacts.reserve(1 << 16);
   }
   void offer_state(const rigid::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
     const std::int64_t now = monotonic_ns();
@@ -47,6 +48,40 @@ class Recorder : public LoopOutput {
     }
     changed.notify_all();
   }
+  // Each event of each tick, flattened (the capacity reserved: recording allocates nothing).
+  struct Contact {
+    std::int64_t tick = 0;
+    double sim_time = 0.0;
+    std::int64_t dropped = 0;
+    rigid::ContactKind kind = rigid::ContactKind::kImpact;
+    std::int32_t body = 0;
+    std::int32_t part = 0;
+    double time = 0.0;
+    rigid::Vec3 position{}, normal{}, impulse{};
+  };
+  void offer_contacts(const rigid::ContactEvents& e) override {
+    {
+      const std::lock_guard lock(mutex);
+      ++contact_ticks;
+      for (std::size_t i = 0; i < e.event_count() && contacts.size() < contacts.capacity(); ++i) {
+        Contact c;
+        c.tick = e.tick;
+        c.sim_time = e.sim_time;
+        c.dropped = e.dropped;
+        c.kind = e.kinds[i];
+        c.body = e.bodies[i];
+        c.part = e.parts[i];
+        c.time = e.times[i];
+        for (std::size_t k = 0; k < 3; ++k) {
+          c.position[k] = e.position[3 * i + k];
+          c.normal[k] = e.normal[3 * i + k];
+          c.impulse[k] = e.impulse[3 * i + k];
+        }
+        contacts.push_back(c);
+      }
+    }
+    changed.notify_all();
+  }
 
   std::mutex mutex;
   std::condition_variable changed;
@@ -57,6 +92,8 @@ class Recorder : public LoopOutput {
   std::vector<std::int64_t> tick_ns;
   std::vector<Reply> replies;
   std::int64_t states = 0;
+  std::vector<Contact> contacts;
+  std::int64_t contact_ticks = 0;  // offer_contacts calls
 };
 
 inline scene::Scene make_scene(const std::string& text) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
 #include <utility>
 
@@ -281,6 +282,73 @@ TEST(Loop, StopsPromptlyWhilePausedOrSleeping) {
   const std::int64_t t0 = monotonic_ns();
   h.stop();
   EXPECT_LT(monotonic_ns() - t0, 250'000'000);
+}
+
+// A ball dropped on a plane, bouncing with e = 1/2 until it rests: the loop hands each tick's
+// contact events over once, in that tick, exactly as the closed form has them. It falls h - r = 1 m
+// to its first impact at t1 = sqrt(2 (h - r) / g) with v = g t1, taking the impulse m (1 + e) v;
+// each bounce lasts 2 e v / g, e times the one before, so it rests at t1 + 2 e v / (g (1 - e)) =
+// 3 t1 (the bounce series summed).
+const char* kDropScene = R"(
+world { rate_hz: 1000 publish_every: 10 gravity { z: -9.81 }
+        material { restitution: 0.5 friction: 0.5 } }
+plane { name: "ground" normal { z: 1 } }
+body { name: "ball" mass: 2 shape { sphere { radius: 0.1 } } position { x: 0.25 y: -0.5 z: 1.1 } }
+)";
+
+TEST(Loop, ContactEventsOfEachTickGoOutInThatTickAsTheClosedFormHasThem) {
+  Harness h(make_scene(kDropScene), Mode::kLockstep);
+  h.start();
+  h.control(ControlKind::kStep, 1, 1500);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+  h.stop();
+  const double g = 9.81, m = 2.0, e = 0.5, dt = 1e-3;
+  const double t1 = std::sqrt(2.0 * 1.0 / g);
+  const auto& c = h.out.contacts;
+  ASSERT_GE(c.size(), 3u);
+  // The first impact: in the tick whose step holds t1, at t1 to round-off.
+  EXPECT_EQ(c[0].kind, rigid::ContactKind::kImpact);
+  EXPECT_EQ(c[0].tick, static_cast<std::int64_t>(std::ceil(t1 / dt)));
+  EXPECT_EQ(c[0].sim_time, static_cast<double>(c[0].tick) * dt);
+  EXPECT_NEAR(c[0].time, t1, 1e-14);
+  EXPECT_EQ(c[0].body, 0);
+  EXPECT_EQ(c[0].part, 0);
+  EXPECT_EQ(c[0].position, (rigid::Vec3{0.25, -0.5, 0.0}));
+  EXPECT_EQ(c[0].normal, (rigid::Vec3{0.0, 0.0, 1.0}));
+  EXPECT_EQ(c[0].impulse[0], 0.0);
+  EXPECT_EQ(c[0].impulse[1], 0.0);
+  EXPECT_NEAR(c[0].impulse[2], m * (1.0 + e) * g * t1, 1e-13);
+  // The second impact a whole bounce later, with e times the impulse.
+  EXPECT_EQ(c[1].kind, rigid::ContactKind::kImpact);
+  EXPECT_NEAR(c[1].time, t1 + 2.0 * e * g * t1 / g, 1e-13);
+  EXPECT_NEAR(c[1].impulse[2], e * c[0].impulse[2], 1e-13);
+  // It rests, last, at 3 t1; every event lies within its tick's step, ticks in order, each tick
+  // handed over once.
+  EXPECT_EQ(c.back().kind, rigid::ContactKind::kResting);
+  EXPECT_NEAR(c.back().time, 3.0 * t1, 1e-13);
+  std::int64_t ticks = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_GT(c[i].time, static_cast<double>(c[i].tick - 1) * dt - 1e-15);
+    EXPECT_LE(c[i].time, static_cast<double>(c[i].tick) * dt + 1e-15);
+    EXPECT_EQ(c[i].dropped, 0);
+    if (i > 0) {
+      EXPECT_LE(c[i - 1].time, c[i].time);
+      EXPECT_GE(c[i].tick, c[i - 1].tick);
+    }
+    if (i == 0 || c[i].tick != c[i - 1].tick) ++ticks;
+  }
+  EXPECT_EQ(h.out.contact_ticks, ticks);
+}
+
+// A world without static parts has no contact events, and the loop offers none.
+TEST(Loop, AWorldWithoutStaticPartsOffersNoContactEvents) {
+  Harness h(make_scene(kScene), Mode::kLockstep);
+  h.start();
+  h.control(ControlKind::kStep, 1, 200);
+  ASSERT_EQ(h.reply_to(1).outcome, Outcome::kOk);
+  h.stop();
+  EXPECT_EQ(h.out.contact_ticks, 0);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "loop/triple_buffer.hpp"
 
 namespace rigid::loop {
@@ -142,6 +144,15 @@ plane { name: "ceiling" normal { z: -1 } offset: 10 }
     EXPECT_NEAR(normals[i].dot(on_plane), offsets[i], 1e-14);
     EXPECT_EQ(d.part_dims[3 * i], 0.0);
   }
+  // The shortest turn of z onto the normal, and for n = -z a half turn about x (/tf_static of
+  // rigidd --ros carries the same frames).
+  EXPECT_EQ(std::vector<double>(d.part_orientation.begin(), d.part_orientation.begin() + 4),
+            (std::vector<double>{1, 0, 0, 0}));
+  EXPECT_EQ(std::vector<double>(d.part_orientation.begin() + 8, d.part_orientation.begin() + 12),
+            (std::vector<double>{0, 1, 0, 0}));
+  // z onto -x: a quarter turn about y (to an ulp or two: the frame divides by a hypot)
+  EXPECT_NEAR(d.part_orientation[4], std::sqrt(0.5), 3e-16);
+  EXPECT_NEAR(d.part_orientation[6], -std::sqrt(0.5), 3e-16);
   EXPECT_EQ(std::vector<double>(d.part_position.begin() + 9, d.part_position.end()),
             (std::vector<double>{1, 2, 3, 0, 0, 0}));
   EXPECT_EQ(std::vector<double>(d.part_orientation.begin() + 12, d.part_orientation.end()),

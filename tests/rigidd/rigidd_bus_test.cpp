@@ -129,6 +129,63 @@ TEST_P(Rigidd, StateRateIsTheScenesWithin2Percent) {
   stop();
 }
 
+// A ball dropped on a plane in a lockstep rigidd: the client gets the plane in SceneInfo, then
+// every contact event once, each in the message of its tick: the first an impact at the closed-form
+// time t1 = sqrt(2 (h - r) / g), within its tick, on body 0 and part 0, at the ball's foot, with
+// the plane's normal and the impulse m (1 + e) g t1; the last, the ball resting at 3 t1 (the bounce
+// series with e = 1/2 summed).
+TEST_P(Rigidd, ContactEventsOfABallDroppedOnAPlaneArriveWithTheClosedFormImpact) {
+  start(std::string(RIGIDD_TEST_SCENES) + "/drop.pbtxt", "lockstep");
+  handshake();
+  ASSERT_TRUE(client_->wait([&] { return client_->scene_locked().has_value(); }, 10s));
+  const rigid::SceneDescription scene = *client_->scene();
+  ASSERT_EQ(scene.part_names, std::vector<std::string>{"ground"});
+  EXPECT_EQ(scene.part_kinds, std::vector<rigid::ShapeKind>{rigid::ShapeKind::kPlane});
+  EXPECT_EQ(scene.part_restitution, std::vector<double>{0.5});
+
+  const auto reply = client_->request(control(ControlKind::kStep, 1400), 20s);
+  ASSERT_TRUE(reply) << daemon_->stderr_text();
+  ASSERT_EQ(reply->outcome, Outcome::kOk);
+  const double g = 9.81, m = 2.0, e = 0.5, dt = 1e-3;
+  const double t1 = std::sqrt(2.0 / g);
+  ASSERT_TRUE(client_->wait(
+      [&] {
+        const auto& c = client_->contacts_locked();
+        return !c.empty() && c.back().kinds.back() == rigid::ContactKind::kResting;
+      },
+      10s))
+      << "no resting event within 10 s; " << client_->contacts().size() << " ticks of events";
+  const std::vector<rigid::ContactEvents> ticks = client_->contacts();
+  const rigid::ContactEvents& first = ticks.front();
+  ASSERT_EQ(first.event_count(), 1u);
+  EXPECT_EQ(first.tick, static_cast<std::int64_t>(std::ceil(t1 / dt)));
+  EXPECT_EQ(first.sim_time, static_cast<double>(first.tick) * dt);
+  EXPECT_GT(first.stamp_ns, 0);
+  EXPECT_EQ(first.dropped, 0);
+  EXPECT_EQ(first.kinds[0], rigid::ContactKind::kImpact);
+  EXPECT_NEAR(first.times[0], t1, 1e-14);
+  EXPECT_EQ(first.bodies[0], 0);
+  EXPECT_EQ(first.parts[0], 0);
+  EXPECT_EQ(first.position, (std::vector<double>{0.25, -0.5, 0.0}));
+  EXPECT_EQ(first.normal, (std::vector<double>{0.0, 0.0, 1.0}));
+  EXPECT_EQ(first.impulse[0], 0.0);
+  EXPECT_EQ(first.impulse[1], 0.0);
+  EXPECT_NEAR(first.impulse[2], m * (1.0 + e) * g * t1, 1e-13);
+  EXPECT_NEAR(ticks.back().times.back(), 3.0 * t1, 1e-13);
+  // Each tick once, in order, every event within its tick.
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    SCOPED_TRACE(ticks[i].tick);
+    if (i > 0) {
+      EXPECT_GT(ticks[i].tick, ticks[i - 1].tick);
+    }
+    for (const double t : ticks[i].times) {
+      EXPECT_GT(t, static_cast<double>(ticks[i].tick - 1) * dt - 1e-15);
+      EXPECT_LE(t, static_cast<double>(ticks[i].tick) * dt + 1e-15);
+    }
+  }
+  stop();
+}
+
 TEST_P(Rigidd, BodyFixedForceAtALeverArmGivesTheAngularAccelerationPhysicsPredicts) {
   start(kProbe);
   handshake();

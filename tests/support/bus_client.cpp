@@ -160,6 +160,19 @@ void BusClient::on_scene(const rigid::SceneDescription& scene) {
   changed_.notify_all();
 }
 
+void BusClient::on_contacts(const rigid::ContactEvents& contacts) {
+  {
+    const std::lock_guard lock(mutex_);
+    contacts_.push_back(contacts);
+  }
+  changed_.notify_all();
+}
+
+std::vector<rigid::ContactEvents> BusClient::contacts() const {
+  const std::lock_guard lock(mutex_);
+  return contacts_;
+}
+
 void BusClient::on_control_reply(const rigid::ControlReply& reply) {
   {
     const std::lock_guard lock(mutex_);

@@ -1,6 +1,7 @@
 // A test client of rigidd on one bus, built on the transport layer's client role: it records every
-// state (with its arrival time), control reply, Stats and SceneInfo, and sends wrenches and
-// control requests with its own source id and increasing sequence numbers. Waits are bounded.
+// state (with its arrival time), control reply, Stats, SceneInfo and tick of contact events, and
+// sends wrenches and control requests with its own source id and increasing sequence numbers. Waits
+// are bounded.
 #pragma once
 
 #include <chrono>
@@ -63,17 +64,21 @@ class BusClient final : public transport::Receiver {
   std::optional<rigid::SceneDescription> scene() const;
   std::size_t state_count() const;
   std::optional<TimedState> last_state() const;
+  std::vector<rigid::ContactEvents> contacts() const;
 
   // For wait() predicates (the lock is held there).
   const std::vector<TimedState>& states_locked() const { return states_; }
   const std::vector<rigid::ControlReply>& replies_locked() const { return replies_; }
   const std::optional<rigid::StatsReport>& stats_locked() const { return stats_; }
+  const std::vector<rigid::ContactEvents>& contacts_locked() const { return contacts_; }
+  const std::optional<rigid::SceneDescription>& scene_locked() const { return scene_; }
 
  private:
   void on_state(const rigid::StateFrame& state) override;
   void on_stats(const rigid::StatsReport& stats) override;
   void on_scene(const rigid::SceneDescription& scene) override;
   void on_control_reply(const rigid::ControlReply& reply) override;
+  void on_contacts(const rigid::ContactEvents& contacts) override;
 
   const rigid::Bus bus_;
   const std::int64_t source_;
@@ -84,6 +89,7 @@ class BusClient final : public transport::Receiver {
   std::vector<rigid::ControlReply> replies_;
   std::optional<rigid::StatsReport> stats_;
   std::optional<rigid::SceneDescription> scene_;
+  std::vector<rigid::ContactEvents> contacts_;
   std::unique_ptr<transport::Transport> transport_;  // last: its thread stops first
 };
 

@@ -83,6 +83,7 @@ Shape shape_of(ShapeKind kind, const double* d) {
     case ShapeKind::kCylinder:
     case ShapeKind::kCapsule:
       return {kCylinder, {2 * d[0], 2 * d[0], d[1]}};
+    case ShapeKind::kPlane:  // a static part's kind: planes are drawn by their own case
     case ShapeKind::kNone:
       break;
   }
