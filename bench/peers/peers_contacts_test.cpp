@@ -413,5 +413,56 @@ TEST(RigidContactEngine, IsTheWorldOfTheCaseSpec) {
                std::runtime_error);
 }
 
+// Ours through the driver, scored by the same scorer as the peers, on every case at the coarsest
+// step: the World's events and states read as the closed forms (the physics itself is tested in
+// tests/physics; a wrong event time, kind, impulse or copy index in the driver fails here).
+TEST(RigidContactEngine, ScoresAsTheClosedForms) {
+  const auto engine = make_rigid_contact_engine();
+  ASSERT_TRUE(engine->locates_events());
+  const std::string mode = engine->modes().front();
+  const double dt = 1.0 / 60;
+  const ContactRow elastic = contact_accuracy_run(*engine, find_case("elastic_sphere"), mode, dt);
+  EXPECT_EQ(elastic.impacts, 12);
+  EXPECT_LT(std::abs(elastic.first_impact_error), 1e-9);
+  EXPECT_LT(elastic.later_impact_error, 1e-9);
+  EXPECT_LT(std::abs(elastic.apex_error), 1e-9);
+  EXPECT_LE(elastic.max_penetration, 1e-9);
+
+  const ContactRow bouncing = contact_accuracy_run(*engine, find_case("bouncing_sphere"), mode, dt);
+  EXPECT_LT(std::abs(bouncing.first_impact_error), 1e-9);
+  EXPECT_EQ(bouncing.rest_rule, "event");
+  EXPECT_LT(std::abs(bouncing.rest_time_error), 1e-9);
+
+  const ContactRow sliding = contact_accuracy_run(*engine, find_case("sliding_cube"), mode, dt);
+  EXPECT_LT(std::abs(sliding.rest_time_error), 1e-9);
+  EXPECT_LT(std::abs(sliding.stop_distance_error), 1e-9);
+
+  const ContactRow resting = contact_accuracy_run(*engine, find_case("resting_cube"), mode, dt);
+  EXPECT_LT(resting.drift, 1e-12);
+  EXPECT_LE(resting.max_penetration, 1e-9);
+
+  const ContactRow tumbling = contact_accuracy_run(*engine, find_case("tumbling_cube"), mode, dt);
+  EXPECT_LT(tumbling.max_energy_rise, 1e-9);
+  EXPECT_LT(tumbling.final_tilt, 1e-9);
+  EXPECT_LT(tumbling.rest_time, find_case("tumbling_cube").duration);
+
+  // The first bounce: one impact event of normal impulse 2 m v1, on the copy that bounced.
+  const auto w = engine->make_world(find_case("elastic_sphere"), mode, 1e-3, 2, true);
+  const double v1 = std::sqrt(2 * 9.81 * 0.9);
+  int impacts = 0;
+  for (int n = 0; n < 600; ++n) {
+    w->step();
+    for (int k = 0; k < 2; ++k) {
+      for (const LocatedEvent& e : w->events(k)) {
+        EXPECT_EQ(e.kind, LocatedEvent::Kind::kImpact);
+        EXPECT_NEAR(e.normal_impulse, 2 * v1, 1e-9);
+        ++impacts;
+      }
+      EXPECT_EQ(w->contact(k).points, static_cast<int>(w->events(k).size()));
+    }
+  }
+  EXPECT_EQ(impacts, 2);
+}
+
 }  // namespace
 }  // namespace rigid::bench::peers
