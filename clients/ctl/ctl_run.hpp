@@ -1,5 +1,5 @@
 // rigidctl's commands against a running rigidd. Each prints what it got to `out` (errors: one line
-// on `err`) and returns the exit status (common/cli.hpp: 0, 1 refused or no bus, 3 no answer).
+// on `err`) and returns the exit status (cli/cli.hpp: 0, 1 refused or no bus, 3 no answer).
 #pragma once
 
 #include <iosfwd>

@@ -1,4 +1,4 @@
-// The messages rigid exchanges (transport/messages.hpp) as log records (msgs/rigid.proto, "Log
+// The messages rigid exchanges (rigid/messages.hpp) as log records (msgs/rigid.proto, "Log
 // records") and back, for rigid-record's recordings and rigidd's journal. Numbers are copied
 // exactly (doubles stay doubles), so a state read back from a file equals the one received.
 #pragma once

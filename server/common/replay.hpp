@@ -76,7 +76,7 @@ struct ReplayOptions {
   std::string journal;             // rigidd --journal's file
   std::string scene;               // the scene it ran; empty: the journal's copy of it
   std::optional<std::string> csv;  // write the replayed states to this file (state CSV)
-  // Write the replayed contact events to this file (contact CSV, util/contact_csv.hpp).
+  // Write the replayed contact events to this file (contact CSV, common/contact_csv.hpp).
   std::optional<std::string> contacts_csv;
 };
 

@@ -1,6 +1,6 @@
 // Commands as the loop consumes them: validated, body names resolved to ids, fixed size and
 // trivially copyable, so they travel through the bounded queue without allocating. The wire
-// messages (transport/messages.hpp) carry strings and unchecked numbers; intake.hpp turns one into
+// messages (rigid/messages.hpp) carry strings and unchecked numbers; intake.hpp turns one into
 // the other.
 #pragma once
 

@@ -2,7 +2,8 @@
 // groups' entries, and what the World keeps between steps (pending impulses, bodies to regroup, the
 // guard's poses, the step count). The step functions write it; the Model (model.hpp) they read.
 // A world of 10^6 bodies pays for every byte kept per body here a million times
-// (bench/memory_bench.cpp): per body it is kept to what cannot be derived again from the Model.
+// (bench/physics/memory_bench.cpp): per body it is kept to what cannot be derived again from the
+// Model.
 #pragma once
 
 #include <cstdint>

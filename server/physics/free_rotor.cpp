@@ -152,7 +152,7 @@ inline double psi_integrand(double cG, double dn) {
 // s m2 = s b sn, s m3 = c dn). Both are left unnormalised, and d = p0^* Rz(dpsi) p1 is scaled
 // once: one square root and one division a step, as many as normalising the end frame alone. (The
 // end frame was once carried to the next step as its start frame, 24 B a body kept to save a
-// square root that this form does not pay; bench/memory_bench.cpp.)
+// square root that this form does not pay; bench/physics/memory_bench.cpp.)
 inline void finish_step(const RotorPlan& p, double s0, double c0, double d0, double y1, double y2,
                         double y3, double correction, Vec3& mP, Quat& dq) {
   const double dpsi = p.s * (p.lin - correction);

@@ -8,7 +8,7 @@
 // A cached plan is only ever stepped with RotorUpdate::kPinned (integrate_exact.cpp's
 // drift_cached, and the kernel), so the store keeps what that reads and nothing else: 208 B an
 // entry and a flags byte (node count, case, still, sign), where the whole RotorPlan takes 384
-// (bench/memory_bench.cpp; issue 13's budget of 500 B a body). What RotorUpdate::kIncrement
+// (bench/physics/memory_bench.cpp; issue 13's budget of 500 B a body). What RotorUpdate::kIncrement
 // alone reads (ic, Cm1, Dm1) is not kept: get gives NaN there; what plan_core derives by products
 // alone (cn_bias, mS2, mSC, cG, abG2) get derives again, and the quadrature weights w_i = X
 // w_i(rule) / 2 too, from X and the rule of n nodes (gauss_legendre.hpp), as make_rotor_plan does.

@@ -1,14 +1,14 @@
 // The scene's bodies as World keeps them after compiling: cold data, read by reset(), body_spec(),
 // find_body() and the API's edges, never by a step. A BodySpec is 256 B (its name's std::string,
 // a 3x3 inertia, Eigen's alignment); kept as it is, the copies were a quarter of a general body's
-// memory and half a point mass's (bench/memory_bench.cpp). Here a body costs its name's bytes in
-// one buffer and a 4 B offset, its initial position (24 B), and two indices: of its parameters
-// (mass, inertia, drags, flags: a scene of 10^6 bodies usually has a handful of kinds) and of its
-// initial orientation and velocities (80 B: a large scene's bodies usually start alike, at rest or
-// all turning the same way), each kept once per distinct value: ~40 B, and 4 B more than a dense
-// copy of the initial state for a scene whose bodies all start differently. get(id) gives back
-// the BodySpec it was given, bit for bit, but for its orientation, which is kept normalised (World
-// validates that it can be).
+// memory and half a point mass's (bench/physics/memory_bench.cpp). Here a body costs its name's
+// bytes in one buffer and a 4 B offset, its initial position (24 B), and two indices: of its
+// parameters (mass, inertia, drags, flags: a scene of 10^6 bodies usually has a handful of kinds)
+// and of its initial orientation and velocities (80 B: a large scene's bodies usually start alike,
+// at rest or all turning the same way), each kept once per distinct value: ~40 B, and 4 B more than
+// a dense copy of the initial state for a scene whose bodies all start differently. get(id) gives
+// back the BodySpec it was given, bit for bit, but for its orientation, which is kept normalised
+// (World validates that it can be).
 #pragma once
 
 #include <array>

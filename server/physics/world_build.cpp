@@ -530,7 +530,7 @@ void World::Impl::place_bodies(int threads_wanted) {
   // SpecStore's, the loads') stays resident in glibc's heap once freed, when its dynamic mmap
   // threshold has risen. Give it back to the system before reserving what stepping may need
   // (reserve_scratch), so that those reservations take fresh pages, which stay out of memory
-  // until used: 50 B a body less at 10^6 general bodies (bench/memory_bench.cpp). A small
+  // until used: 50 B a body less at 10^6 general bodies (bench/physics/memory_bench.cpp). A small
   // world's is not worth the walk over the heap.
   const int n = model.body_count();
   if (n >= kTrimBodies) malloc_trim(0);

@@ -10,7 +10,7 @@ import { kMaxWrenchesShown } from './protocol.js';
 const kArrowMetresPerNewton = 0.01;
 const isVec3 = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
 
-// rigidd's ticks_to_live (server/loop/wrench_table.cpp): the ticks a wrench acts for, ttl / dt
+// rigidd's ticks_to_live (server/common/wrench_table.cpp): the ticks a wrench acts for, ttl / dt
 // rounded up (a ratio within 1e-9 of an integer counts as that integer), at least 1.
 function ticksToLive(ttl, dt) {
   const ratio = ttl / dt, nearest = Math.round(ratio);
