@@ -104,6 +104,11 @@ class Session::Impl final : public transport::Receiver {
     if (scene_handler_) scene_handler_(scene);
   }
 
+  void on_contacts(const ContactEvents& contacts) override {
+    const std::lock_guard calls(handler_mutex_);
+    if (contacts_handler_) contacts_handler_(contacts);
+  }
+
   void on_control_reply(const ControlReply& reply) override {
     if (reply.source != source_) return;  // another client's
     {
@@ -265,6 +270,7 @@ class Session::Impl final : public transport::Receiver {
   std::function<void(const AcceptedCommand&)> accepted_handler_;
   std::function<void(const StatsReport&)> stats_handler_;
   std::function<void(const SceneDescription&)> scene_handler_;
+  std::function<void(const ContactEvents&)> contacts_handler_;
   std::unique_ptr<transport::Transport> transport_;  // last: its thread stops first
 };
 
@@ -299,6 +305,10 @@ void Session::on_each_stats(std::function<void(const StatsReport&)> handler) {
 
 void Session::on_each_scene(std::function<void(const SceneDescription&)> handler) {
   impl_->set_handler(impl_->scene_handler_, std::move(handler));
+}
+
+void Session::on_each_contacts(std::function<void(const ContactEvents&)> handler) {
+  impl_->set_handler(impl_->contacts_handler_, std::move(handler));
 }
 
 bool Session::wait_server(std::chrono::milliseconds patience) {

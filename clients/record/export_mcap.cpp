@@ -30,6 +30,7 @@ std::uint64_t as_time(std::int64_t ns) {
 
 struct Summary {
   std::int64_t states = 0;
+  std::int64_t contact_events = 0;
   std::string note;
 };
 
@@ -55,6 +56,8 @@ class FoxgloveOut {
     stats_ =
         writer_.add_channel(schema(msgs::StatsRecord::descriptor()), "/rigid/stats", "protobuf");
     accepted_ = writer_.add_channel(schema(msgs::CommandRecord::descriptor()), "/rigid/accepted",
+                                    "protobuf");
+    contacts_ = writer_.add_channel(schema(msgs::ContactRecord::descriptor()), "/rigid/contacts",
                                     "protobuf");
   }
 
@@ -90,6 +93,13 @@ class FoxgloveOut {
   void command(const msgs::CommandRecord& r, std::uint64_t log_time) {
     const std::uint64_t publish = r.stamp_ns() > 0 ? as_time(r.stamp_ns()) : log_time;
     writer_.write(accepted_, seq_[accepted_]++, log_time, publish, r.SerializeAsString());
+  }
+
+  // A tick's contact events, as recorded (publish time: rigidd's stamp).
+  void contacts(const msgs::ContactRecord& r, std::uint64_t log_time) {
+    const std::uint64_t publish = r.stamp_ns() > 0 ? as_time(r.stamp_ns()) : log_time;
+    writer_.write(contacts_, seq_[contacts_]++, log_time, publish, r.SerializeAsString());
+    summary_.contact_events += r.kinds_size();
   }
 
   Summary commit() {
@@ -145,7 +155,8 @@ class FoxgloveOut {
   util::AtomicFile file_;
   std::string buffer_;
   McapWriter writer_;
-  std::uint16_t transforms_ = 0, bodies_ = 0, state_ = 0, scene_ = 0, stats_ = 0, accepted_ = 0;
+  std::uint16_t transforms_ = 0, bodies_ = 0, state_ = 0, scene_ = 0, stats_ = 0, accepted_ = 0,
+                contacts_ = 0;
   std::map<std::uint16_t, std::uint32_t> seq_;
   rigid::SceneDescription scene_desc_;
   clients::BodyNames names_;
@@ -192,6 +203,8 @@ Summary from_rigid_log(const RecordOptions& o) {
       out->stats(r.stats(), at(r.stats().recorded_ns()));
     } else if (r.has_command()) {
       out->command(r.command(), at(r.command().recorded_ns()));
+    } else if (r.has_contacts()) {
+      out->contacts(r.contacts(), at(r.contacts().recorded_ns()));
     }
   }
   if (!out || out->summary().states == 0) {
@@ -216,6 +229,7 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
   const std::string& scene_channel = names[transport::index_of(Topic::kScene)];
   const std::string& stats_channel = names[transport::index_of(Topic::kStats)];
   const std::string& accepted_channel = names[transport::index_of(Topic::kAccepted)];
+  const std::string& contacts_channel = names[transport::index_of(Topic::kContacts)];
   if (!seen.contains(state_channel)) {
     throw common::LogFileError(o.file + ": no " + state_channel + " in this log");
   }
@@ -247,6 +261,8 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
   msgs::SceneRecord scene_record;
   msgs::StatsRecord stats_record;
   msgs::CommandRecord command_record;
+  rigid::ContactEvents contacts;
+  msgs::ContactRecord contact_record;
   while (reader.next(event)) {
     if (first_us < 0) {
       first_us = event.timestamp_us;
@@ -273,6 +289,10 @@ Summary from_lcm_log(const RecordOptions& o, std::ostream& err) {
       if (!ok(codec.decode(event.data, accepted))) continue;
       common::to_record(accepted, recorded_ns, command_record);
       out.command(command_record, t);
+    } else if (event.channel == contacts_channel) {
+      if (!ok(codec.decode(event.data, contacts))) continue;
+      common::to_record(contacts, recorded_ns, contact_record);
+      out.contacts(contact_record, t);
     } else if (event.channel == scene_channel) {
       // rigidd repeats its scene once a second: only a change is a new scene.
       if (!ok(codec.decode(event.data, later_scene)) || later_scene == scene) continue;
@@ -299,7 +319,9 @@ int export_mcap(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     const bool lcm = common::looks_like_lcm_log(o.file);
     const Summary s = lcm ? from_lcm_log(o, err) : from_rigid_log(o);
     out << o.mcap << ": " << s.states << " states from " << o.file
-        << (lcm ? " (lcm-logger log)" : "") << '\n';
+        << (lcm ? " (lcm-logger log)" : "");
+    if (s.contact_events > 0) out << ", " << s.contact_events << " contact events";
+    out << '\n';
     if (!s.note.empty()) err << "rigid-record: export: " << s.note << '\n';
     return clients::kExitOk;
   } catch (const clients::UsageError& e) {

@@ -83,7 +83,8 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
       }
     };
     std::int64_t states = 0, scenes = 0, stats = 0, wrenches = 0, controls = 0, resets = 0,
-                 hashes = 0, gaps = 0, unknown = 0;
+                 hashes = 0, gaps = 0, unknown = 0, contact_ticks = 0, contact_events = 0,
+                 contact_hashes = 0;
     Span ticks, recorded;
     double sim_first = 0, sim_last = 0;
     std::optional<msgs::LogEnd> end;
@@ -116,6 +117,14 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
         case msgs::LogRecord::kStateHash:
           ++hashes;
           ticks.see(r.state_hash().tick());
+          break;
+        case msgs::LogRecord::kContacts:
+          ++contact_ticks;
+          contact_events += r.contacts().kinds_size();
+          break;
+        case msgs::LogRecord::kContactHash:
+          ++contact_hashes;
+          contact_events += r.contact_hash().events();
           break;
         case msgs::LogRecord::kGap:
           ++gaps;
@@ -170,6 +179,10 @@ int info(const std::string& path, std::ostream& out, std::ostream& err) {
         << wrenches + controls << " accepted commands (" << wrenches << " wrenches, " << controls
         << " controls, " << resets << " resets), " << hashes << " state hashes, " << gaps
         << " gaps";
+    if (contact_ticks > 0 || contact_hashes > 0) {
+      out << ", " << contact_events << " contact events in " << contact_ticks + contact_hashes
+          << (contact_hashes > 0 ? " hashed" : "") << " ticks";
+    }
     if (unknown > 0) out << ", " << unknown << " of kinds this version does not know";
     out << '\n';
     if (states > 0) {

@@ -88,13 +88,14 @@ class RecordQueue {
 };
 
 struct Counts {
-  std::int64_t states = 0, scenes = 0, stats = 0, commands = 0;
+  std::int64_t states = 0, scenes = 0, stats = 0, commands = 0, contacts = 0;
   std::int64_t decimated = 0;  // states left out by --every
   void count(const msgs::LogRecord& r) {
     states += r.has_state();
     scenes += r.has_scene();
     stats += r.has_stats();
     commands += r.has_command();
+    contacts += r.has_contacts() ? r.contacts().kinds_size() : 0;
   }
 };
 
@@ -112,6 +113,7 @@ std::string live_line(const std::string& path, double seconds, const Counts& c,
                   static_cast<double>(file.record_bytes()) / 1e6);
     line += buffer;
   }
+  if (c.contacts > 0) line += ", " + std::to_string(c.contacts) + " contact events";
   if (c.decimated > 0) line += ", " + std::to_string(c.decimated) + " states left out (--every)";
   if (dropped > 0) line += ", " + std::to_string(dropped) + " dropped (the disk is too slow)";
   return line;
@@ -183,6 +185,12 @@ int record(const RecordOptions& o, util::SignalWatcher& signals, std::ostream& e
   session->on_each_accepted([&](const rigid::AcceptedCommand& a) {
     queue.push(
         [&](msgs::LogRecord& r, std::int64_t t) { common::to_record(a, t, *r.mutable_command()); });
+  });
+  // Every tick's contact events, whatever --every keeps of the states (an impact is not repeated).
+  session->on_each_contacts([&](const rigid::ContactEvents& c) {
+    queue.push([&](msgs::LogRecord& r, std::int64_t t) {
+      common::to_record(c, t, *r.mutable_contacts());
+    });
   });
   session->on_each_scene([&](const rigid::SceneDescription& s) {
     // LCM repeats the scene every second: keep it only when it changes.

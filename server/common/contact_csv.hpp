@@ -1,6 +1,6 @@
 // The CSV format of contact events: one row per event, named by the scene (its bodies and static
 // parts), every number with 17 significant digits so that a double survives the round trip
-// through text. rigid-record export --contacts and rigid-sim --contacts-csv write it.
+// through text. rigid-sim --contacts-csv writes it (a run's events, or a journal's replayed).
 //
 //   tick,t,kind,body,part,px,py,pz,nx,ny,nz,jx,jy,jz
 //

@@ -746,6 +746,88 @@ TEST(RigidRecord, AnLcmLoggerRecordingOfRigiddIsExported) {
   EXPECT_EQ(s.stop(), 0);
 }
 
+// A ball dropped on a plane in a lockstep rigidd (tests/rigidd/scenes/drop.pbtxt): rigid-record
+// keeps every tick's contact events exactly as a subscriber got them (the first an impact at
+// t1 = sqrt(2 / g)), rigid-record info counts them, and export --mcap writes them on
+// /rigid/contacts.
+class RecordContacts : public ::testing::TestWithParam<Bus> {};
+
+TEST_P(RecordContacts, EveryTicksContactEventsAreRecordedAsPublishedAndExported) {
+  TestDir dir;
+  Session s(GetParam(), std::string(RIGIDD_TEST_SCENES) + "/drop.pbtxt", {"--mode", "lockstep"});
+  ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
+  const std::string out = dir.file("drop.rlog");
+  RigiddProcess recorder(RIGID_RECORD_EXE, concat({"record", out, "--duration", "4"}, s.bus_args()),
+                         {});
+  std::this_thread::sleep_for(2s);  // the recorder starts once it has the SceneInfo (LCM: 1 s)
+  const Completed step = s.run(RIGIDCTL_EXE, {"step", "1500"});
+  ASSERT_EQ(step.exit_code, 0) << step.err;
+  ASSERT_TRUE(s.client_->wait(
+      [&] {
+        const auto& c = s.client_->contacts_locked();
+        return !c.empty() && c.back().kinds.back() == rigid::ContactKind::kResting;
+      },
+      10s));
+  const auto status = recorder.wait_exit(10s);
+  ASSERT_TRUE(status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0) << recorder.stderr_text();
+  EXPECT_NE(recorder.stderr_text().find(" contact events"), std::string::npos)
+      << recorder.stderr_text();
+
+  std::vector<rigid::ContactEvents> recorded;
+  std::int64_t first_state_tick = -1;
+  {
+    common::RecordReader reader(out);
+    msgs::LogRecord rec;
+    while (reader.next(rec)) {
+      if (rec.has_state() && first_state_tick < 0) first_state_tick = rec.state().tick();
+      if (!rec.has_contacts()) continue;
+      rigid::ContactEvents e;
+      ASSERT_TRUE(common::from_record(rec.contacts(), e));
+      recorded.push_back(e);
+    }
+  }
+  const std::vector<rigid::ContactEvents> seen = s.client_->contacts();
+  ASSERT_FALSE(seen.empty());
+  ASSERT_GE(first_state_tick, 0);
+  ASSERT_LT(first_state_tick, seen.front().tick) << "the recorder started after the first impact";
+  ASSERT_EQ(recorded.size(), seen.size());
+  std::size_t events = 0;
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    SCOPED_TRACE(seen[i].tick);
+    EXPECT_EQ(recorded[i].tick, seen[i].tick);
+    EXPECT_EQ(recorded[i].sim_time, seen[i].sim_time);
+    EXPECT_EQ(recorded[i].stamp_ns, seen[i].stamp_ns);
+    EXPECT_EQ(recorded[i].kinds, seen[i].kinds);
+    EXPECT_EQ(recorded[i].bodies, seen[i].bodies);
+    EXPECT_EQ(recorded[i].parts, seen[i].parts);
+    EXPECT_EQ(recorded[i].times, seen[i].times);
+    EXPECT_EQ(recorded[i].position, seen[i].position);
+    EXPECT_EQ(recorded[i].normal, seen[i].normal);
+    EXPECT_EQ(recorded[i].impulse, seen[i].impulse);
+    events += seen[i].event_count();
+  }
+  EXPECT_EQ(recorded.front().kinds.front(), rigid::ContactKind::kImpact);
+  EXPECT_NEAR(recorded.front().times.front(), std::sqrt(2.0 / 9.81), 1e-14);
+
+  const Completed info = run_program_to_exit(RIGID_RECORD_EXE, {"info", out});
+  EXPECT_EQ(info.exit_code, 0);
+  EXPECT_NE(info.out.find(", " + std::to_string(events) + " contact events in " +
+                          std::to_string(seen.size()) + " ticks"),
+            std::string::npos)
+      << info.out;
+  const std::string mcap = dir.file("drop.mcap");
+  const Completed e = run_program_to_exit(RIGID_RECORD_EXE, {"export", out, "--mcap", mcap});
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find(", " + std::to_string(events) + " contact events"), std::string::npos)
+      << e.out;
+  const std::string bytes = sim::testing::read_file(mcap);
+  EXPECT_NE(bytes.find("/rigid/contacts"), std::string::npos);
+  EXPECT_NE(bytes.find("rigid.msgs.ContactRecord"), std::string::npos);
+  EXPECT_EQ(s.stop(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Bus, RecordContacts, ::testing::Values(Bus::kDds, Bus::kLcm), param_name);
+
 TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
   TestDir dir;
   const std::string journal = dir.file("run.journal");

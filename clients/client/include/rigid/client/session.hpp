@@ -38,7 +38,8 @@ class Session {
   // This session's source id (random, positive): rigidd keeps sequence numbers per source.
   std::int64_t source() const;
 
-  // Called on the bus's receive thread for every state / accepted command / Stats / SceneInfo
+  // Called on the bus's receive thread for every state / accepted command / Stats / SceneInfo /
+  // ContactEvents
   // (set before traffic matters; the handler must return quickly and not call these setters).
   // Setting a handler waits for a call of the old one in progress: a handler that refers to a
   // caller's locals is cleared (set to {}) before they go away, and is never called after that.
@@ -49,6 +50,9 @@ class Session {
   void on_each_accepted(std::function<void(const AcceptedCommand&)> handler);
   void on_each_stats(std::function<void(const StatsReport&)> handler);
   void on_each_scene(std::function<void(const SceneDescription&)> handler);
+  // Each tick's contact events (a scene with static parts: rigid/contacts), in tick order; every
+  // tick that had any, none repeated.
+  void on_each_contacts(std::function<void(const ContactEvents&)> handler);
 
   // Waits until the server has been seen (a SceneInfo or a state); false after `patience`.
   bool wait_server(std::chrono::milliseconds patience);
