@@ -323,3 +323,52 @@ def test_help_is_useful() -> None:
     for name in ["load", "from_string", "step", "add_force", "add_torque", "apply_impulse",
                  "positions", "orientations", "kinetic_energy", "angular_momentum"]:
         assert getattr(rigid.World, name).__doc__, name
+
+
+DROP = SOURCE_DIR / "tests" / "rigidd" / "scenes" / "drop.pbtxt"  # a ball dropped 1 m, e = 1/2
+
+
+def test_contacts_are_the_closed_form_bounces_and_rigid_sims_contact_csv_bit_for_bit(
+    tmp_path: Path,
+) -> None:
+    # The ball falls 1 m to its first impact at t1 = sqrt(2 / g), takes the impulse m (1 + e) g t1,
+    # bounces with e = 1/2 and rests at 3 t1 (the bounce series summed).
+    w = rigid.World.load(str(DROP))
+    assert w.static_parts == ["ground"]
+    assert w.contacts() == []
+    w.step(1500)
+    c = w.contacts()
+    g, m, e = 9.81, 2.0, 0.5
+    t1 = math.sqrt(2.0 / g)
+    assert c[0].kind == "impact" and c[0].body == "ball" and c[0].part == "ground"
+    assert (c[0].body_index, c[0].part_index) == (0, 0)
+    assert abs(c[0].time - t1) < 1e-14
+    assert c[0].point == (0.25, -0.5, 0.0) and c[0].normal == (0.0, 0.0, 1.0)
+    assert abs(c[0].impulse[2] - m * (1 + e) * g * t1) < 1e-13
+    assert c[-1].kind == "resting" and abs(c[-1].time - 3 * t1) < 1e-13
+    assert [x.time for x in c] == sorted(x.time for x in c)
+    assert w.contacts_dropped == 0
+    assert "impact of 'ball' on 'ground'" in repr(c[0])
+    # The same events as rigid-sim --contacts-csv writes for the same run, to the last bit.
+    out = tmp_path / "contacts.csv"
+    sim = subprocess.run(
+        [program("RIGID_SIM"), str(DROP), "--duration", "1.5", "--contacts-csv", str(out)],
+        capture_output=True, text=True, timeout=60)
+    assert sim.returncode == 0, sim.stderr
+    assert f"contacts csv: {out}, {len(c)} events" in sim.stdout
+    with out.open() as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == len(c)
+    for r, x in zip(rows, c):
+        assert int(r["tick"]) == math.ceil(x.time / 1e-3 - 1e-9)
+        assert (r["kind"], r["body"], r["part"]) == (x.kind, x.body, x.part)
+        assert float(r["t"]) == x.time
+        assert tuple(float(r[k]) for k in ("px", "py", "pz")) == x.point
+        assert tuple(float(r[k]) for k in ("nx", "ny", "nz")) == x.normal
+        assert tuple(float(r[k]) for k in ("jx", "jy", "jz")) == x.impulse
+    # A step without events empties the list; a scene without static parts has none.
+    w.step(10)
+    assert w.contacts() == []
+    free = rigid.World.load(str(DEFAULT))
+    free.step(100)
+    assert free.contacts() == [] and free.static_parts == []

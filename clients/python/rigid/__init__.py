@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Optional, Sequence, Union
 
 from ._rigid import (
+    Contact,
     SceneError,
     SpecError,
     State,
@@ -35,6 +36,7 @@ from ._rigid import _integrators, _Session
 
 __all__ = [
     "World",
+    "Contact",
     "Client",
     "State",
     "StateStream",

@@ -18,6 +18,17 @@ class SpecError(ValueError): ...
 class UnknownBodyError(LookupError): ...
 class TransportError(RuntimeError): ...
 
+class Contact:
+    kind: str
+    body: str
+    part: str
+    body_index: int
+    part_index: int
+    time: float
+    point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    impulse: tuple[float, float, float]
+
 class World:
     @staticmethod
     def load(path: str, *, integrator: Optional[str] = None, dt: Optional[float] = None) -> World: ...
@@ -82,6 +93,11 @@ class World:
     def frozen_bodies(self) -> list[int]: ...
     @property
     def large_rotation_steps(self) -> int: ...
+    def contacts(self) -> list[Contact]: ...
+    @property
+    def contacts_dropped(self) -> int: ...
+    @property
+    def static_parts(self) -> list[str]: ...
 
 class State:
     @property

@@ -31,6 +31,16 @@ Exceptions& exceptions();
 [[noreturn]] void raise(const py::object& type, const std::string& message);
 
 // "%.9g", as rigidd prints numbers in its refusals.
+// One contact event (rigid.Contact): what happened (impact, resting, sliding, rolling, separate),
+// to which body, at which static part, when (the world's time), where, the part's normal towards
+// the body, and the impulse on the body (N s; zero but for an impact), all in the world frame.
+struct Contact {
+  std::string kind, body, part;
+  int body_index = 0, part_index = 0;
+  double time = 0.0;
+  std::array<double, 3> point{}, normal{}, impulse{};
+};
+
 std::string num(double v);
 // "(x, y, z)" with num().
 std::string vec_text(const std::array<double, 3>& v);

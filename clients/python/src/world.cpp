@@ -94,6 +94,11 @@ class PyWorld {
   void step(std::int64_t n) {
     if (n < 0) raise(value_error(), "step: n must be >= 0, got " + std::to_string(n));
     const bool live = views_live();
+    {
+      const std::lock_guard lock(mutex_);
+      contacts_.clear();
+      contacts_dropped_ = 0;
+    }
     std::int64_t done = 0;
     std::int64_t chunk = 1;
     while (done < n) {
@@ -106,6 +111,7 @@ class PyWorld {
         while (done < n && std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(50)) {
           const std::int64_t k = std::min(chunk, n - done);
           world_.step(k);
+          keep_contacts();
           done += k;
           if (chunk < (std::int64_t{1} << 40)) chunk *= 2;
         }
@@ -324,6 +330,30 @@ class PyWorld {
     return std::string(physics::to_string(world_.body_motion(body(b))));
   }
 
+  // The contact events of the last step() call, in order (World::contact_events of each of its
+  // chunks), as rigid.Contact objects named by the scene.
+  py::list contacts() const {
+    std::vector<physics::ContactEvent> events = locked([&] { return contacts_; });
+    py::list out;
+    for (const physics::ContactEvent& e : events) {
+      Contact c;
+      c.kind = std::string(physics::to_string(e.kind));
+      c.body = std::string(world_.body_name(e.body));
+      c.part = std::string(world_.static_part_name(e.part));
+      c.body_index = e.body;
+      c.part_index = e.part;
+      c.time = e.time;
+      c.point = {e.p_W.x(), e.p_W.y(), e.p_W.z()};
+      c.normal = {e.n_W.x(), e.n_W.y(), e.n_W.z()};
+      c.impulse = {e.impulse_W.x(), e.impulse_W.y(), e.impulse_W.z()};
+      out.append(py::cast(std::move(c)));
+    }
+    return out;
+  }
+  std::int64_t contacts_dropped() const {
+    return locked([&] { return contacts_dropped_; });
+  }
+
   std::vector<int> frozen_bodies() const {
     return locked([&] {
       const auto f = world_.frozen_bodies();
@@ -402,6 +432,19 @@ class PyWorld {
   scene::Scene scene_;
   physics::World world_;
   mutable std::mutex mutex_;  // World is not thread-safe; Python threads run step() without GIL
+  // The last step() call's contact events: at most kMaxKeptContacts, the rest counted (a long
+  // step() of a scene with many contacts must not hold unbounded memory).
+  static constexpr std::size_t kMaxKeptContacts = 1 << 20;
+  std::vector<physics::ContactEvent> contacts_;
+  std::int64_t contacts_dropped_ = 0;
+  void keep_contacts() {
+    const auto events = world_.contact_events();
+    const std::size_t room = kMaxKeptContacts - contacts_.size();
+    const std::size_t n = std::min(room, events.size());
+    contacts_.insert(contacts_.end(), events.begin(),
+                     events.begin() + static_cast<std::ptrdiff_t>(n));
+    contacts_dropped_ += static_cast<std::int64_t>(events.size() - n);
+  }
   std::shared_ptr<StateBuffers> buffers_;
   py::capsule owner_;
   std::array<py::object, 4> views_;
@@ -433,12 +476,34 @@ Errors raise exceptions with the C++ tools' one-line messages and change nothing
 ValueError (a non-finite force names its value). The GIL is released while the world steps.
 )doc";
 
+py::tuple tuple3(const std::array<double, 3>& v) {
+  return py::make_tuple(v[0], v[1], v[2]);
+}
+
 }  // namespace
 
 void bind_world(py::module_& m) {
   // pybind11 would show py::handle arguments as "handle": the docstrings carry the signatures.
   py::options options;
   options.disable_function_signatures();
+  py::class_<Contact>(m, "Contact", R"doc(One contact event: kind ("impact", "resting", "sliding",
+"rolling" or "separate"), body and part (names; body_index and part_index their indices), time
+(the world's time it happened at, s), point, normal (the part's, towards the body) and impulse
+(on the body, N s; zero but for an impact), all in the world frame.)doc")
+      .def_readonly("kind", &Contact::kind)
+      .def_readonly("body", &Contact::body)
+      .def_readonly("part", &Contact::part)
+      .def_readonly("body_index", &Contact::body_index)
+      .def_readonly("part_index", &Contact::part_index)
+      .def_readonly("time", &Contact::time)
+      .def_property_readonly("point", [](const Contact& c) { return tuple3(c.point); })
+      .def_property_readonly("normal", [](const Contact& c) { return tuple3(c.normal); })
+      .def_property_readonly("impulse", [](const Contact& c) { return tuple3(c.impulse); })
+      .def("__repr__", [](const Contact& c) {
+        return "<rigid.Contact " + c.kind + " of '" + c.body + "' on '" + c.part +
+               "' at t=" + num(c.time) + ", point " + vec_text(c.point) + ", impulse " +
+               vec_text(c.impulse) + ">";
+      });
   py::class_<PyWorld>(m, "World", kWorldDoc)
       .def_static(
           "load", &PyWorld::load, py::arg("path"), py::kw_only(),
@@ -589,6 +654,25 @@ the whole world's about the world origin (kinematic bodies excluded).)doc")
       .def_property_readonly(
           "large_rotation_steps", [](const PyWorld& w) { return w.world().large_rotation_steps(); },
           "Body-steps that turned a body by more than pi under an integrator not exact for it.")
+      .def("contacts", &PyWorld::contacts,
+           R"doc(contacts() -> list[Contact]
+
+The contact events of the last step() call, in order of step, then body, then time: every impact
+and every change of how a body is supported (starts resting, sliding, rolling, leaves its
+supports) by the scene's planes and static shapes. Empty for a scene without them. At most 2^20
+are kept; contacts_dropped counts the rest (and the physics keeps at most 4096 a step).)doc")
+      .def_property_readonly("contacts_dropped", &PyWorld::contacts_dropped,
+                             "Contact events of the last step() call beyond what contacts() "
+                             "keeps.")
+      .def_property_readonly(
+          "static_parts",
+          [](const PyWorld& w) {
+            std::vector<std::string> names;
+            for (int i = 0; i < w.world().static_part_count(); ++i)
+              names.emplace_back(w.world().static_part_name(i));
+            return names;
+          },
+          "The static parts' names (planes, then static shapes), in index order (a new list).")
       .def("__repr__", &PyWorld::repr);
 }
 
