@@ -358,7 +358,28 @@ std::string scene_json(const SceneDescription& scene, std::uint64_t generation) 
       out += '}';
     }
   }
-  out += "]}";
+  out += ']';
+  // The static parts (planes, then static shapes), only for a scene that has them: a plane as its
+  // frame (z = 0 of it, solid below), a shape as its pose and dims as a body's.
+  if (scene.lengths_agree() && scene.part_count() > 0) {
+    out += ",\"parts\":[";
+    for (std::size_t i = 0; i < scene.part_count(); ++i) {
+      if (i) out += ',';
+      out += "{\"name\":";
+      string(out, scene.part_names[i]);
+      out += ",\"shape\":";
+      string(out, client::shape_name(scene.part_kinds[i]));
+      out += ",\"p\":";
+      numbers(out, &scene.part_position[3 * i], 3);
+      out += ",\"q\":";
+      numbers(out, &scene.part_orientation[4 * i], 4);
+      out += ",\"dims\":";
+      numbers(out, &scene.part_dims[3 * i], 3);
+      out += '}';
+    }
+    out += ']';
+  }
+  out += '}';
   return out;
 }
 

@@ -120,7 +120,9 @@ inline std::size_t pose_state_bytes(std::size_t bodies, std::size_t watched) {
 // "cylinder", "capsule", "ellipsoid" (dims as in SceneDescription), or for a body without a shape
 // the uniform box with its principal moments ("box", size, and "frame": the principal axes in B
 // as w, x, y, z); and for the page's energy and momentum: "mass" and "inertia" (Ixx, Iyy, Izz,
-// Ixy, Ixz, Iyz about the CoM, in B), and the scene's "gravity" (W).
+// Ixy, Ixz, Iyz about the CoM, in B), and the scene's "gravity" (W). A scene with static parts
+// also has "parts": each one's name, "shape" ("plane", "box", "sphere", "cylinder", "capsule"),
+// pose "p" (p_WS) and "q" (q_WS: w, x, y, z) and "dims" (as a body's; a plane is z = 0 of S).
 std::string scene_json(const SceneDescription& scene, std::uint64_t generation);
 std::string stats_json(const StatsReport& stats);
 // {"type":"wrenches","wrenches":[{"body":ID,"tick":T,"ttl":S,"force":[..],"force_frame":"world"|

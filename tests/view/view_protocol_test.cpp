@@ -407,6 +407,22 @@ TEST(ViewProtocol, SceneAndBoxOfMoments) {
   EXPECT_NE(j.find(R"("shape":"capsule","dims":[0.10000000000000001,0.29999999999999999,0])"),
             std::string::npos)
       << j;
+  EXPECT_EQ(j.find("parts"), std::string::npos) << j;  // none: the message is as it was
+  // Static parts: a plane as its frame and a box as its pose and size.
+  d.part_names = {"ground", "ramp"};
+  d.part_kinds = {ShapeKind::kPlane, ShapeKind::kBox};
+  d.part_position = {0, 0, -0.5, 2, 0, 0.25};
+  d.part_orientation = {1, 0, 0, 0, 0.5, 0, 0.5, 0};
+  d.part_dims = {0, 0, 0, 1, 2, 0.5};
+  d.part_restitution = {0, 0};
+  d.part_friction = {0.5, 0.5};
+  ASSERT_TRUE(d.lengths_agree());
+  const std::string k = scene_json(d, 3);
+  EXPECT_NE(k.find(R"(,"parts":[{"name":"ground","shape":"plane","p":[0,0,-0.5],"q":[1,0,0,0],)"
+                   R"("dims":[0,0,0]},{"name":"ramp","shape":"box","p":[2,0,0.25],)"
+                   R"("q":[0.5,0,0.5,0],"dims":[1,2,0.5]}]})"),
+            std::string::npos)
+      << k;
 }
 
 TEST(ViewOptions, Listen) {

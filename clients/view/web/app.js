@@ -9,6 +9,7 @@
 //   viewport.js     renderer, scene, camera and orbit controls, render scale
 //   draw_loop.js    the animation loop, drawing only on change (redraw.js)
 //   bodies.js       the scene's bodies: built from the scene message, placed by each state
+//   static_parts.js the scene's planes and static shapes, drawn once from the scene message
 //   shapes.js, impostors.js, impostor_shaders.js   how bodies are drawn (small and large scenes)
 //   picking.js      the body under a ray
 //   input.js        the pointer: push, select, hover;  push.js: the push itself
@@ -29,6 +30,7 @@ import { Panel } from './panel.js';
 import { decodeState } from './protocol.js';
 import { Push } from './push.js';
 import { Selection } from './selection.js';
+import { StaticParts } from './static_parts.js';
 import { createTimeline } from './timeline.js';
 import { Timings } from './timings.js';
 import { Trails } from './trails.js';
@@ -40,6 +42,7 @@ const viewport = new Viewport(document.getElementById('view'), wake);
 const loop = new DrawLoop(viewport, frame);
 const { scene } = viewport;
 const bodies = new Bodies(scene);
+const parts = new StaticParts(scene);
 const connection = new Connection({ open: () => hud.connected(true), close: () => hud.connected(false),
                                     state: () => loop.ensure(), message: onMessage });
 const push = new Push(scene, viewport, connection);
@@ -87,6 +90,7 @@ function setScene(msg) {
   bodies.clear();
   viewport.newScene(isLarge(msg));
   bodies.build(msg);
+  parts.build(msg);
   wake();
   drift.setBodies(msg.bodies.length);
   wrenches.newScene(msg);
@@ -155,7 +159,7 @@ function frame(now) {
 }
 
 exposeDebug({ viewport, loop, bodies, connection, push, wrenches, selection, input, trails, drift,
-               hud, panel, timings, shown: () => shown });
+               hud, panel, timings, shown: () => shown, staticParts: parts });
 viewport.resize();
 loop.ensure();
 connection.connect();

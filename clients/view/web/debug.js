@@ -6,7 +6,7 @@ import * as THREE from 'three';
 // parts: the page's parts, as app.js makes them; shown(): the scene shown ({ scene, bodies }).
 export function exposeDebug(parts) {
   const { viewport, loop, bodies, connection, push, wrenches, selection, input, trails, drift, hud,
-          panel, timings, shown } = parts;
+          panel, timings, shown, staticParts } = parts;
   const debug = {
     // The pose drawn for a body: position and orientation (w, x, y, z), and the tick it came from.
     renderedPose: (name) => bodies.renderedPose(name),
@@ -83,6 +83,8 @@ export function exposeDebug(parts) {
     statesSkipped: () => connection.statesSkipped,
     scene: () => shown().scene,
     bodies: () => shown().bodies,
+    // The static parts drawn (the scene's planes and static shapes), by name.
+    staticParts: () => staticParts.names.slice(),
     stats: () => hud.lastStats,
     frames: () => bodies.statesApplied,  // states applied
     lastState: () => bodies.lastState,   // { tick, simTime, bodies, generation }
