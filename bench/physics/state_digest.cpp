@@ -2,11 +2,12 @@
 // integrator and phase with an FNV-1a hash of every body's state (state(id) and write_states), its
 // energies and momenta, the guard's frozen bodies, large_rotation_steps and what prepare_step
 // made. A restructuring that must change no result (the physics library's) shows the same lines
-// before and after:
+// before and after (the build before's output in old.txt, then `diff old.txt new.txt`), with the
+// widest lanes kernel, the narrower ones and the scalar code (RIGID_LANES=4, 2, 1), on 1 and 2
+// threads:
 //
-//   build/bench/state_digest > new.txt      (the build before: > old.txt; then diff old.txt
-//   new.txt) RIGID_LANES=1 build/bench/state_digest  (the scalar code; 2 and 4 the narrower
-//   kernels) build/bench/state_digest --threads 2
+//   build/bench/state_digest > new.txt
+//   RIGID_LANES=1 build/bench/state_digest --threads 2 > new-scalar-2.txt
 //
 // The scene has bodies of every kind a World tells apart (point masses, bodies with every rotation
 // locked, kinematic bodies still and spinning, hinges about each world axis, isotropic,

@@ -1,10 +1,11 @@
-// Cost of World::step per body, by body model, case and integrator (Google Benchmark).
+// Cost of World::step per body, by case and integrator (Google Benchmark).
 //
 //   build/bench/step_bench --benchmark_filter='racket|sphere' --benchmark_repetitions=5
 //       --benchmark_report_aggregates_only=true         (one command line)
 //
-// Each world holds N bodies of one case, with initial conditions spread a little so that no two
-// bodies are identical. The counter ns_per_body_step is the wall time of one step divided by N.
+// Each world holds N bodies of one case (step_worlds.hpp), with initial conditions spread a little
+// so that no two bodies are identical. The counter ns_per_body_step is the wall time of one step
+// divided by N.
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -12,63 +13,21 @@
 
 #include "physics/free_rotor.hpp"
 #include "physics/world.hpp"
+#include "step_worlds.hpp"
 
 namespace {
 
-using rigid::physics::BodySpec;
-using rigid::physics::Frame;
-using rigid::physics::LoadSpec;
 using rigid::physics::Quat;
 using rigid::physics::Vec3;
 using rigid::physics::World;
 using rigid::physics::WorldSpec;
 
-enum Case { kRacket, kSphere, kTop, kPoint, kThruster };
-
-WorldSpec make_world(Case c, int n, const std::string& integrator) {
-  WorldSpec ws;
-  ws.dt = 1e-3;
-  ws.g_W.setZero();
-  ws.integrator = integrator;
-  for (int i = 0; i < n; ++i) {
-    BodySpec b;
-    b.name = "b" + std::to_string(i);
-    b.use_gravity = false;
-    const double e = 1e-6 * i;
-    switch (c) {
-      case kRacket:  // tennis-racket flip: I = (1, 2, 3), w0 = (1e-3, 5, 1e-3)
-        b.I_B = Vec3(1, 2, 3).asDiagonal();
-        b.w_WB = Vec3(1e-3 + e, 5, 1e-3);
-        break;
-      case kSphere:
-        b.I_B = Vec3(0.4, 0.4, 0.4).asDiagonal();
-        b.w_WB = Vec3(1 + e, 2, 3);
-        b.v_WBo = Vec3(1, 0, 0);
-        break;
-      case kTop:
-        b.I_B = Vec3(1, 1, 1.8).asDiagonal();
-        b.w_WB = Vec3(1 + e, 0, 20);
-        break;
-      case kPoint:
-        b.has_inertia = false;
-        b.v_WBo = Vec3(1 + e, 2, 3);
-        b.use_gravity = true;
-        break;
-      case kThruster:  // off-centre body-fixed thruster on a general body
-        b.I_B = Vec3(0.5, 1.0, 1.3).asDiagonal();
-        b.w_WB = Vec3(0.2 + e, 0.1, 1.0);
-        ws.loads.push_back(LoadSpec{
-            .body = i, .force = {0, 0, 4}, .p_BoQ_B = {0.4, 0.1, 0}, .frame = Frame::kBody});
-        break;
-    }
-    ws.bodies.push_back(b);
-  }
-  return ws;
-}
+using rigid::bench::make_step_world;
+using Case = rigid::bench::StepCase;
 
 void BM_Step(benchmark::State& state, Case c, std::string integrator) {
   const int n = static_cast<int>(state.range(0));
-  World w(make_world(c, n, integrator));
+  World w(make_step_world(c, n, integrator));
   w.step(2);
   for (auto _ : state) {
     w.step();
@@ -85,7 +44,7 @@ void BM_Step(benchmark::State& state, Case c, std::string integrator) {
 // (the world's; 10^3 bodies are written on the calling thread alone either way).
 void BM_WriteStates(benchmark::State& state, Case c) {
   const int n = static_cast<int>(state.range(0));
-  WorldSpec ws = make_world(c, n, "hybrid4");
+  WorldSpec ws = make_step_world(c, n, "hybrid4");
   ws.threads = static_cast<int>(state.range(1));
   World w(ws);
   w.step(2);
@@ -134,11 +93,11 @@ void register_all() {
       }
     }
   }
-  const std::pair<Case, const char*> cases[] = {{kRacket, "racket"},
-                                                {kSphere, "sphere"},
-                                                {kTop, "top"},
-                                                {kPoint, "point"},
-                                                {kThruster, "thruster"}};
+  const std::pair<Case, const char*> cases[] = {{Case::kRacket, "racket"},
+                                                {Case::kSphere, "sphere"},
+                                                {Case::kTop, "top"},
+                                                {Case::kPoint, "point"},
+                                                {Case::kThruster, "thruster"}};
   const char* integrators[] = {"hybrid4", "exact_rotor4",  "exact_rotor", "rk4",
                                "dlm",     "implicit_gyro", "games103"};
   for (const auto& [c, cname] : cases) {

@@ -190,6 +190,14 @@ void exact_quiet(G g, const Model& m, Range r) {
 // split nor the route changes a result. Every increment is made before any is applied: the order
 // of the scalar code per body.
 constexpr int kQuietChunk = 32;  // a multiple of 4 (IncrementBlock)
+// Entries [from, to) turned by their cached increments, one by one.
+void apply_increments(SteadySpinGroup g, int from, int to) {
+  for (int i = from; i < to; ++i) {
+    Motion& b = g.motion(i);
+    b.q = b.q * g.entries.plan.get(i);
+    renormalize(b.q);
+  }
+}
 void exact_quiet(SteadySpinGroup g, const Model& m, Range r) {
   const double h = m.dt;
   for (int begin = r.begin; begin < r.end; begin += kQuietChunk) {
@@ -210,13 +218,7 @@ void exact_quiet(SteadySpinGroup g, const Model& m, Range r) {
     // The kernel takes whole blocks of increments: the bodies before the first block boundary
     // (none when the range starts on one, as the quiet runs' slices do) and after the last take
     // the scalar code.
-    const auto scalar = [&, g](int from, int to) {
-      for (int i = from; i < to; ++i) {
-        Motion& b = g.motion(i);
-        b.q = b.q * g.entries.plan.get(i);
-        renormalize(b.q);
-      }
-    };
+    const auto scalar = [&](int from, int to) { apply_increments(g, from, to); };
     int i = begin;
     if (m.lanes >= 4) {
       const int first = std::min((begin + 3) / 4 * 4, end);
