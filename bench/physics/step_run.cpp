@@ -6,7 +6,8 @@
 //       build/bench/step_run racket hybrid4 1000 20
 //   (one command line; prints its Ir, "Collected", on stderr)
 //
-// Cases: racket, sphere, top, point, thruster, torqued_top, torqued_sphere (step_worlds.hpp).
+// Cases: racket, sphere, top, point, thruster, torqued_top, torqued_sphere, lever_top
+// (step_worlds.hpp).
 // Under valgrind the lanes kernels run 4 wide (it has no AVX-512).
 #include <cstdio>
 #include <cstdlib>

@@ -16,7 +16,8 @@ std::optional<StepCase> find_step_case(std::string_view name) {
       {"point", StepCase::kPoint},
       {"thruster", StepCase::kThruster},
       {"torqued_top", StepCase::kTorquedTop},
-      {"torqued_sphere", StepCase::kTorquedSphere}};
+      {"torqued_sphere", StepCase::kTorquedSphere},
+      {"lever_top", StepCase::kLeverTop}};
   for (const auto& [n, c] : kNames) {
     if (n == name) return c;
   }
@@ -54,6 +55,11 @@ WorldSpec make_step_world(StepCase c, int n, const std::string& integrator) {
         b.w_WB = Vec3(1 + e, 0, 20);
         if (c == StepCase::kTorquedTop)
           ws.loads.push_back(LoadSpec{.body = i, .torque = {0.1, 0, 0}});
+        break;
+      case StepCase::kLeverTop:
+        b.I_B = Vec3(1, 1, 0.4).asDiagonal();
+        b.w_WB = Vec3(0.5 + e, 0.2, 30);
+        ws.loads.push_back(LoadSpec{.body = i, .force = {0, 0, -9.81}, .p_BoQ_B = {0, 0, 0.3}});
         break;
       case StepCase::kPoint:
         b.has_inertia = false;

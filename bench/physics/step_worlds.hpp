@@ -12,13 +12,14 @@
 namespace rigid::bench {
 
 enum class StepCase {
-  kRacket,        // tennis-racket flip: I = (1, 2, 3), w0 = (1e-3, 5, 1e-3)
-  kSphere,        // I = 0.4 (1, 1, 1), moving and spinning
-  kTop,           // axisymmetric, I = (1, 1, 1.8), w0 = (1, 0, 20)
-  kPoint,         // point masses under gravity
-  kThruster,      // off-centre body-fixed thruster on a general body
-  kTorquedTop,    // the top under a constant world torque (loaded axisymmetric bodies)
-  kTorquedSphere  // the sphere under a constant body torque (loaded isotropic bodies)
+  kRacket,         // tennis-racket flip: I = (1, 2, 3), w0 = (1e-3, 5, 1e-3)
+  kSphere,         // I = 0.4 (1, 1, 1), moving and spinning
+  kTop,            // axisymmetric, I = (1, 1, 1.8), w0 = (1, 0, 20)
+  kPoint,          // point masses under gravity
+  kThruster,       // off-centre body-fixed thruster on a general body
+  kTorquedTop,     // the top under a constant world torque (loaded axisymmetric bodies)
+  kTorquedSphere,  // the sphere under a constant body torque (loaded isotropic bodies)
+  kLeverTop        // forced_bench's symmetric top: a prolate top under a world force at its axis
 };
 
 std::optional<StepCase> find_step_case(std::string_view name);

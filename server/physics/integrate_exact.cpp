@@ -280,7 +280,7 @@ void exact_quiet_lanes(TumblingGroup g, const Model& m, Range r) {
 // flow is a one-parameter group: they are merged into one kick of (s_k + s_k+1) / 2. Fewer
 // additions of small increments to w, less round-off, less work.
 template <class Comp, class G, class Drift>
-inline void compose_loaded(G g, const Model& m, int i, Drift&& drift) {
+[[gnu::flatten]] inline void compose_loaded(G g, const Model& m, int i, Drift&& drift) {
   const double h = m.dt;
   Motion& b = g.motion(i);
   const Linear& lin = g.linear(i);
