@@ -24,6 +24,7 @@ std::string ContactNames::body(std::int32_t id) const {
 }
 
 std::string ContactNames::part(std::int32_t index) const {
+  if (index < 0) return {};  // a separate event: the body left all its supports
   if (index >= 0 && static_cast<std::size_t>(index) < parts_.size() &&
       !parts_[static_cast<std::size_t>(index)].empty()) {
     return parts_[static_cast<std::size_t>(index)];

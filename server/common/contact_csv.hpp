@@ -5,8 +5,9 @@
 //   tick,t,kind,body,part,px,py,pz,nx,ny,nz,jx,jy,jz
 //
 // tick: the tick whose steps the event happened in; t: its exact sim time (s); kind: impact,
-// resting, sliding, rolling, separate; p: where, n: the part's unit normal there towards the body,
-// j: the impulse on the body (N s; zero but for an impact), all in the world frame.
+// resting, sliding, rolling, separate; part: empty for a separate event (no one part); p: where,
+// n: the part's unit normal there towards the body, j: the impulse on the body (N s; zero but for
+// an impact), all in the world frame.
 #pragma once
 
 #include <cstdint>

@@ -366,6 +366,12 @@ def test_contacts_are_the_closed_form_bounces_and_rigid_sims_contact_csv_bit_for
         assert tuple(float(r[k]) for k in ("px", "py", "pz")) == x.point
         assert tuple(float(r[k]) for k in ("nx", "ny", "nz")) == x.normal
         assert tuple(float(r[k]) for k in ("jx", "jy", "jz")) == x.impulse
+    # A separate event (the body leaves all its supports) names no part.
+    toss = rigid.World.load(str(SOURCE_DIR / "config" / "scenes" / "contacts.pbtxt"))
+    toss.step(3000)
+    kinds = {(x.kind, x.part == "", x.part_index == -1) for x in toss.contacts()}
+    assert ("separate", True, True) in kinds
+    assert all(p == (k == "separate") for k, p, _ in kinds), kinds
     # A step without events empties the list; a scene without static parts has none.
     w.step(10)
     assert w.contacts() == []

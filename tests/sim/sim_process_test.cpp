@@ -4,7 +4,10 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "test_dir.hpp"
 
@@ -107,6 +110,56 @@ TEST(SimProcess, UnwritableCsvExitsWith1AndLeavesNothing) {
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find(csv + ".tmp"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(csv));
+}
+
+// The contacts scene (config/scenes/contacts.pbtxt) with --contacts-csv: a row per event, as many
+// as the summary says, the header first, each row's tick the one whose step holds its time, every
+// body named and every event on the ground or the ramp; the block slides down the ramp and off it
+// (its last events on the ground), and the lively ball rests on the ground. --contacts-csv equal
+// to --csv is refused.
+TEST(SimProcess, TheContactsSceneWritesEveryContactEventToItsCsv) {
+  const TestDir dir;
+  const std::string csv = dir.file("contacts.csv");
+  const Result r =
+      run_sim(dir, "'" + scene("contacts.pbtxt") + "' --duration 8 --contacts-csv '" + csv + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string text = read_file(csv);
+  ASSERT_EQ(text.rfind("tick,t,kind,body,part,px,py,pz,nx,ny,nz,jx,jy,jz\n", 0), 0u);
+  const int rows = count_lines(text) - 1;
+  EXPECT_GT(rows, 100);
+  EXPECT_NE(r.out.find("contacts csv: " + csv + ", " + std::to_string(rows) + " events"),
+            std::string::npos)
+      << r.out;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  std::set<std::string> bodies, parts;
+  std::string block_last_part, bouncer_last_kind;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');)
+      f.push_back(x);
+    ASSERT_EQ(f.size(), 14u) << line;
+    const long long tick = std::stoll(f[0]);
+    const double t = std::stod(f[1]);
+    EXPECT_GT(t, static_cast<double>(tick - 1) * 1e-3 - 1e-12) << line;
+    EXPECT_LE(t, static_cast<double>(tick) * 1e-3 + 1e-12) << line;
+    bodies.insert(f[3]);
+    parts.insert(f[4]);
+    EXPECT_EQ(f[4].empty(), f[2] == "separate") << line;
+    if (f[3] == "block") block_last_part = f[4];
+    if (f[3] == "bouncer") bouncer_last_kind = f[2];
+  }
+  EXPECT_EQ(bodies, (std::set<std::string>{"block", "bouncer", "tossed", "coin", "pill"}));
+  EXPECT_EQ(parts, (std::set<std::string>{"", "ground", "ramp"}));  // "": a separate event's
+  EXPECT_EQ(block_last_part, "ground");
+  EXPECT_EQ(bouncer_last_kind, "resting");
+
+  const Result same = run_sim(
+      dir, "'" + scene("contacts.pbtxt") + "' --csv '" + csv + "' --contacts-csv '" + csv + "'");
+  EXPECT_EQ(same.status, 2);
+  EXPECT_NE(same.err.find("--contacts-csv"), std::string::npos) << same.err;
 }
 
 }  // namespace

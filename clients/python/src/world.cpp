@@ -339,7 +339,8 @@ class PyWorld {
       Contact c;
       c.kind = std::string(physics::to_string(e.kind));
       c.body = std::string(world_.body_name(e.body));
-      c.part = std::string(world_.static_part_name(e.part));
+      // A separate event has no one part (-1): the body left all its supports.
+      c.part = e.part >= 0 ? std::string(world_.static_part_name(e.part)) : std::string();
       c.body_index = e.body;
       c.part_index = e.part;
       c.time = e.time;
@@ -488,7 +489,8 @@ void bind_world(py::module_& m) {
   options.disable_function_signatures();
   py::class_<Contact>(m, "Contact", R"doc(One contact event: kind ("impact", "resting", "sliding",
 "rolling" or "separate"), body and part (names; body_index and part_index their indices), time
-(the world's time it happened at, s), point, normal (the part's, towards the body) and impulse
+(the world's time it happened at, s; part "" and part_index -1 for a separate event: the body
+left all its supports), point, normal (the part's, towards the body) and impulse
 (on the body, N s; zero but for an impact), all in the world frame.)doc")
       .def_readonly("kind", &Contact::kind)
       .def_readonly("body", &Contact::body)

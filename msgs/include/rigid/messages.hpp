@@ -304,11 +304,13 @@ struct ContactEvents {
   std::int64_t dropped = 0;
   std::vector<ContactKind> kinds;
   std::vector<std::int32_t> bodies;  // body ids
-  std::vector<std::int32_t> parts;   // static part indices (SceneDescription::part_names)
-  std::vector<double> times;         // n: sim time of each, exactly, within the tick (s)
-  std::vector<double> position;      // 3n: p_W, where (an impact: the impulse's centre)
-  std::vector<double> normal;        // 3n: n_W, the part's unit normal there, towards the body
-  std::vector<double> impulse;       // 3n: on the body, in W (N s); zero but for an impact
+  // Static part indices (SceneDescription::part_names); -1 for a separate event (the body leaves
+  // all its supports at once: no one part).
+  std::vector<std::int32_t> parts;
+  std::vector<double> times;     // n: sim time of each, exactly, within the tick (s)
+  std::vector<double> position;  // 3n: p_W, where (an impact: the impulse's centre)
+  std::vector<double> normal;    // 3n: n_W, the part's unit normal there, towards the body
+  std::vector<double> impulse;   // 3n: on the body, in W (N s); zero but for an impact
 
   std::size_t event_count() const { return kinds.size(); }
   // Sizes every per-event vector for n events; keeps capacity.
