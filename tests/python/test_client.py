@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import rigid
-from conftest import SCENES, Daemon, StartDaemon
+from conftest import SCENES, SOURCE_DIR, Daemon, StartDaemon
 
 pytestmark = pytest.mark.network
 
@@ -359,3 +359,26 @@ def test_lockstep_step_500_yields_500_over_publish_every_states(rigidd: StartDae
         assert reply.command == "step"
         assert ticks == list(range(10, 501, 10)), ticks
     assert d.stop() == 0, d.stderr()
+
+
+DROP = SOURCE_DIR / "tests" / "rigidd" / "scenes" / "drop.pbtxt"  # a ball dropped 1 m, e = 1/2
+
+
+@pytest.mark.lockstep
+def test_on_contact_gets_every_contact_event_as_the_world_has_it(rigidd: StartDaemon,
+                                                                  bus: str) -> None:
+    # A lockstep rigidd on a ball dropped onto a plane: on_contact gets each event once, in order,
+    # named by the scene, the same values as rigid.World's contacts() for the same steps.
+    d = rigidd(DROP, bus, "lockstep")
+    got: list[rigid.Contact] = []
+    with client_for(d) as c:
+        c.scene()
+        c.on_contact(got.append)
+        c.step(1500, timeout=20.0)
+        assert wait_for(lambda: bool(got) and got[-1].kind == "resting"), [x.kind for x in got]
+    w = rigid.World.load(str(DROP))
+    w.step(1500)
+    want = w.contacts()
+    assert [(x.kind, x.body, x.part, x.time, x.point, x.normal, x.impulse) for x in got] == \
+        [(x.kind, x.body, x.part, x.time, x.point, x.normal, x.impulse) for x in want]
+    assert got[0].kind == "impact" and got[0].body == "ball" and got[0].part == "ground"

@@ -281,6 +281,18 @@ class Client:
             raise TypeError(f"on_state needs a callable, got {type(fn).__name__}")
         return self._session.on_state(fn)
 
+    def on_contact(self, fn: Callable[[Contact], None]) -> None:
+        """Call ``fn(contact)`` for every contact event rigidd publishes from now on (a scene with
+        static parts: each impact, and each time a body starts resting, sliding or rolling on
+        them or leaves them), in order, on the bus's receive thread holding the GIL, as
+        ``on_state``'s callbacks. ``contact`` is a ``rigid.Contact`` named by rigidd's scene. An
+        exception from ``fn`` ends it (reported through ``sys.unraisablehook``); closing the
+        client ends them all.
+        """
+        if not callable(fn):
+            raise TypeError(f"on_contact needs a callable, got {type(fn).__name__}")
+        self._session.on_contact(fn)
+
     # -- pushes -----------------------------------------------------------------------------
 
     def _wrench(

@@ -5,10 +5,14 @@
 // Threads: every call that waits for the bus releases the GIL while it waits. The states go
 // to Python through states.hpp (streams, and callbacks run on the receive thread); a call made
 // inside such a callback must not wait for the bus, which that thread would have to receive.
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -142,6 +146,66 @@ rigid::Frame wire_frame(const py::handle& value, std::string_view what) {
         std::string(what) + " must be 'world' or 'body', got " + std::string(py::repr(value)));
 }
 
+// The functions Client.on_contact() registered, called on the receive thread with each event of
+// each tick (rigid.Contact, named by the newest SceneInfo). `mutex` is held while they run and is
+// taken by Python threads only with the GIL released; an exception ends its function (reported
+// through sys.unraisablehook), as an on_state callback's.
+struct ContactCallbacks {
+  std::mutex mutex;
+  std::vector<py::function> fns;  // touched with the GIL (and the mutex, but at close())
+  std::atomic<std::thread::id> delivering{};
+  bool in_callback() const { return delivering.load() == std::this_thread::get_id(); }
+
+  void deliver(const ContactEvents& e, sdk::Session& session) {
+    const std::lock_guard lock(mutex);
+    if (fns.empty() || !e.lengths_agree() || finalizing()) return;
+    const std::optional<SceneDescription> scene = session.wait_scene(std::chrono::milliseconds(0));
+    const auto name = [](const std::vector<std::string>* names, std::int32_t i) {
+      if (names != nullptr && i >= 0 && static_cast<std::size_t>(i) < names->size())
+        return (*names)[static_cast<std::size_t>(i)];
+      return i < 0 ? std::string() : std::to_string(i);
+    };
+    std::vector<std::string> body_names;  // by id
+    if (scene) {
+      for (std::size_t i = 0; i < scene->ids.size() && i < scene->names.size(); ++i) {
+        const auto id = static_cast<std::size_t>(std::max(0, scene->ids[i]));
+        if (id >= kMaxBodies) continue;
+        if (id >= body_names.size()) body_names.resize(id + 1);
+        body_names[id] = scene->names[i];
+      }
+    }
+    delivering.store(std::this_thread::get_id());
+    {
+      const py::gil_scoped_acquire gil;
+      for (std::size_t k = 0; k < e.event_count() && !fns.empty(); ++k) {
+        Contact c;
+        c.kind = std::string(rigid::contact_name(e.kinds[k]));
+        c.body_index = e.bodies[k];
+        c.part_index = e.parts[k];
+        c.body = name(&body_names, e.bodies[k]);
+        c.part = name(scene ? &scene->part_names : nullptr, e.parts[k]);
+        c.time = e.times[k];
+        for (std::size_t j = 0; j < 3; ++j) {
+          c.point[j] = e.position[3 * k + j];
+          c.normal[j] = e.normal[3 * k + j];
+          c.impulse[j] = e.impulse[3 * k + j];
+        }
+        const py::object o = py::cast(std::move(c));
+        for (std::size_t f = 0; f < fns.size();) {
+          try {
+            fns[f](o);
+            ++f;
+          } catch (py::error_already_set& x) {
+            x.discard_as_unraisable("rigid.Client.on_contact callback");
+            fns.erase(fns.begin() + static_cast<std::ptrdiff_t>(f));
+          }
+        }
+      }
+    }
+    delivering.store(std::thread::id{});
+  }
+};
+
 class PySession {
  public:
   PySession(const std::string& transport, const std::string& prefix, std::uint32_t domain,
@@ -166,6 +230,12 @@ class PySession {
     } catch (const sdk::BusError& e) {
       raise(exceptions().transport_error, e.what());
     }
+    contacts_ = std::make_shared<ContactCallbacks>();
+    std::weak_ptr<ContactCallbacks> contacts = contacts_;
+    sdk::Session* session = session_.get();  // the handler is cleared before the session goes
+    session_->on_each_contacts([contacts, session](const ContactEvents& e) {
+      if (auto c = contacts.lock()) c->deliver(e, *session);
+    });
     std::weak_ptr<StateDelivery> delivery = delivery_;
     session_->on_each_state_shared([delivery](const std::shared_ptr<const StateFrame>& f) {
       if (auto d = delivery.lock()) d->deliver(f);
@@ -175,14 +245,14 @@ class PySession {
 
   ~PySession() {
     // Dropped inside one of its own callbacks, the session cannot stop the thread that runs it.
-    if (!delivery_->in_callback()) close();
+    if (!delivery_->in_callback() && !contacts_->in_callback()) close();
   }
   PySession(const PySession&) = delete;
   PySession& operator=(const PySession&) = delete;
 
   void close() {
     if (!session_) return;
-    if (delivery_->in_callback()) {
+    if (delivery_->in_callback() || contacts_->in_callback()) {
       raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError),
             "Client.close() inside an on_state callback would stop the thread running it: "
             "close the callback instead (or close the client outside it)");
@@ -191,9 +261,24 @@ class PySession {
     {
       py::gil_scoped_release nogil;
       s->on_each_state_shared({});  // waits for a delivery in progress
+      s->on_each_contacts({});
       s.reset();  // the bus stops here unless a call in another thread still holds it
     }
     delivery_->end_callbacks();
+    contacts_->fns.clear();  // (no delivery runs any more)
+  }
+
+  // Client.on_contact(fn): fn(contact) on the receive thread for every contact event from now on.
+  void on_contact(const py::function& fn) {
+    (void)live();
+    if (contacts_->in_callback()) {
+      raise(py::reinterpret_borrow<py::object>(PyExc_RuntimeError),
+            "Client.on_contact() inside an on_contact callback");
+    }
+    py::function f = fn;  // a reference taken with the GIL
+    py::gil_scoped_release nogil;
+    const std::lock_guard lock(contacts_->mutex);
+    contacts_->fns.push_back(std::move(f));
   }
 
   // Client.on_state(fn): fn(state) on the receive thread for every state from now on.
@@ -395,6 +480,7 @@ class PySession {
   }
 
   std::shared_ptr<StateDelivery> delivery_;
+  std::shared_ptr<ContactCallbacks> contacts_;
   std::shared_ptr<sdk::Session> session_;
   std::string describe_;
 };
@@ -419,6 +505,7 @@ void bind_client(py::module_& m) {
       .def("latest", &PySession::latest)
       .def("states", &PySession::states, py::arg("timeout"), py::arg("max_queue"))
       .def("on_state", &PySession::on_state, py::arg("fn"))
+      .def("on_contact", &PySession::on_contact, py::arg("fn"))
       .def("request", &PySession::request, py::arg("kind"), py::arg("steps"), py::arg("rtf"),
            py::arg("timeout"))
       .def("resolve", &PySession::resolve, py::arg("body"), py::arg("timeout"))

@@ -18,8 +18,8 @@ py::array int_view(const std::int32_t* data, py::ssize_t n, const py::object& ow
   return a;
 }
 
-// Taking the GIL once the interpreter has begun to finalize ends the calling thread inside
-// CPython; the receive thread must not try (Client's atexit hook closes sessions before that).
+}  // namespace
+
 bool finalizing() {
 #if PY_VERSION_HEX >= 0x030D0000
   return Py_IsFinalizing() != 0;
@@ -27,8 +27,6 @@ bool finalizing() {
   return _Py_IsFinalizing() != 0;
 #endif
 }
-
-}  // namespace
 
 PyState::PyState(std::shared_ptr<const StateFrame> frame) : frame_(std::move(frame)) {
   auto* keep = new std::shared_ptr<const StateFrame>(frame_);

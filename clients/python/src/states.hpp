@@ -24,6 +24,10 @@
 
 namespace rigid::python {
 
+// Taking the GIL once the interpreter has begun to finalize ends the calling thread inside
+// CPython; a receive thread must not try (Client's atexit hook closes sessions before that).
+bool finalizing();
+
 // One received state, immutable; its arrays are read-only views of the frame it holds.
 class PyState {
  public:
