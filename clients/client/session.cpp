@@ -35,14 +35,22 @@ bool is_own_duplicate_wrench(const ControlReply& r) {
              std::string::npos;
 }
 
-ControlReply not_permitted(const ControlCommand& c, std::string why) {
+ControlReply not_permitted(std::int64_t source, std::int64_t seq, ControlKind command,
+                           std::string why) {
   ControlReply r;
-  r.source = c.source;
-  r.seq = c.seq;
-  r.command = c.command;
+  r.source = source;
+  r.seq = seq;
+  r.command = command;
   r.outcome = Outcome::kNotAllowed;
   r.message = std::move(why);
   return r;
+}
+
+ControlKind reply_kind(const ControlCommand& c) {
+  return c.command;
+}
+ControlKind reply_kind(const EditCommand& /*e*/) {
+  return kReplyToEdit;
 }
 
 std::chrono::milliseconds left(Clock::time_point deadline) {
@@ -153,7 +161,9 @@ class Session::Impl final : public transport::Receiver {
     return changed_.wait_for(lock, patience, [&] { return server_seen_; });
   }
 
-  std::optional<ControlReply> request(ControlCommand control, std::chrono::milliseconds patience) {
+  // A control or an edit: both are answered on the control reply topic, matched by seq.
+  template <class Request>
+  std::optional<ControlReply> request(Request control, std::chrono::milliseconds patience) {
     const auto deadline = Clock::now() + patience;
     // LCM needs no discovery: send at once. DDS: wait to see the server first (see the header).
     if (options_.bus == Bus::kDds && !wait_server(left(deadline))) return std::nullopt;
@@ -170,7 +180,7 @@ class Session::Impl final : public transport::Receiver {
     };
     while (Clock::now() < deadline) {
       if (transport_->publish(control) == transport::PublishResult::kNotPermitted) {
-        return not_permitted(control,
+        return not_permitted(control.source, control.seq, reply_kind(control),
                              "not permitted: this identity's permissions do not allow control "
                              "(rigid-keys add ... --may control)");
       }
@@ -378,6 +388,32 @@ std::optional<ControlReply> Session::set_rtf(double rtf, std::chrono::millisecon
   c.command = ControlKind::kSetRtf;
   c.rtf = rtf;
   return request(c, patience);
+}
+
+std::optional<ControlReply> Session::edit(EditCommand edit, std::chrono::milliseconds patience) {
+  if (edit.stamp_ns == 0) {
+    edit.stamp_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::system_clock::now().time_since_epoch())
+                        .count();
+  }
+  return impl_->request(std::move(edit), patience);
+}
+
+std::optional<ControlReply> Session::set_state(std::int32_t body, const StateEdit& state,
+                                               std::chrono::milliseconds patience) {
+  EditCommand e;
+  e.kind = EditKind::kSetState;
+  e.body_id = body;
+  e.state_edit() = state;
+  return edit(std::move(e), patience);
+}
+
+std::optional<ControlReply> Session::reset_body(std::int32_t body,
+                                                std::chrono::milliseconds patience) {
+  EditCommand e;
+  e.kind = EditKind::kResetBody;
+  e.body_id = body;
+  return edit(std::move(e), patience);
 }
 
 std::optional<AcceptedCommand> Session::push(WrenchCommand wrench,

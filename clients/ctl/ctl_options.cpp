@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <numbers>
 #include <utility>
 
 namespace rigid::ctl {
@@ -10,7 +12,7 @@ namespace {
 using clients::quoted;
 using clients::UsageError;
 
-constexpr std::array<std::pair<std::string_view, Command>, 9> kCommands{{
+constexpr std::array<std::pair<std::string_view, Command>, 10> kCommands{{
     {"bodies", Command::kBodies},
     {"echo", Command::kEcho},
     {"stats", Command::kStats},
@@ -20,6 +22,7 @@ constexpr std::array<std::pair<std::string_view, Command>, 9> kCommands{{
     {"reset", Command::kReset},
     {"rate", Command::kRate},
     {"push", Command::kPush},
+    {"set", Command::kSet},
 }};
 
 constexpr std::array<std::string_view, 4> kFlags{"--help", "-h", "--csv", "--once"};
@@ -41,6 +44,9 @@ bool takes(Command c, std::string_view option) {
     case Command::kPush:
       return option == "--force" || option == "--torque" || option == "--at" ||
              option == "--frame" || option == "--for";
+    case Command::kSet:
+      return option == "--position" || option == "--orientation" || option == "--rpy" ||
+             option == "--velocity" || option == "--angular-velocity" || option == "--frame";
     default:
       return false;
   }
@@ -50,6 +56,37 @@ std::string_view name_of(Command c) {
   for (const auto& [name, command] : kCommands)
     if (command == c) return name;
   return "?";
+}
+
+// w,x,y,z within 1e-3 of unit length (rigidd's tolerance; it normalises).
+std::array<double, 4> parse_orientation(std::string_view option, std::string_view text) {
+  std::array<double, 4> q{};
+  std::string_view rest = text;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::size_t comma = rest.find(',');
+    if ((i < 3) == (comma == std::string_view::npos)) {
+      throw UsageError(std::string(option) + ": expected four numbers w,x,y,z, got " +
+                       quoted(text));
+    }
+    q[i] = clients::parse_double(option, rest.substr(0, comma), "four numbers w,x,y,z");
+    if (comma != std::string_view::npos) rest = rest.substr(comma + 1);
+  }
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!(std::abs(n - 1.0) <= 1e-3)) {
+    throw UsageError(std::string(option) + ": expected a unit quaternion w,x,y,z (|q| = 1 within " +
+                     "1e-3), got " + quoted(text));
+  }
+  return q;
+}
+
+// Roll, pitch, yaw in degrees (as rigid-attitude's --target-rpy): R = Rz(yaw) Ry(pitch) Rx(roll).
+std::array<double, 4> orientation_of_rpy(const rigid::Vec3& rpy_deg) {
+  const double k = std::numbers::pi / 360.0;  // half the angle, in radians
+  const double cr = std::cos(rpy_deg[0] * k), sr = std::sin(rpy_deg[0] * k);
+  const double cp = std::cos(rpy_deg[1] * k), sp = std::sin(rpy_deg[1] * k);
+  const double cy = std::cos(rpy_deg[2] * k), sy = std::sin(rpy_deg[2] * k);
+  return {cy * cp * cr + sy * sp * sr, cy * cp * sr - sy * sp * cr, cy * sp * cr + sy * cp * sr,
+          sy * cp * cr - cy * sp * sr};
 }
 
 }  // namespace
@@ -122,6 +159,17 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
       }
     } else if (name == "--for") {
       o.for_seconds = clients::parse_positive(name, value, "a duration in seconds >= 0", true);
+    } else if (name == "--position") {
+      o.position = clients::parse_vec3(name, value);
+    } else if (name == "--orientation" || name == "--rpy") {
+      if (o.orientation)
+        throw UsageError("set: give the orientation once (--orientation or --rpy)");
+      o.orientation = name == "--rpy" ? orientation_of_rpy(clients::parse_vec3(name, value))
+                                      : parse_orientation(name, value);
+    } else if (name == "--velocity") {
+      o.velocity = clients::parse_vec3(name, value);
+    } else if (name == "--angular-velocity") {
+      o.angular_velocity = clients::parse_vec3(name, value);
     }
   }
 
@@ -157,6 +205,21 @@ CtlOptions parse_options(std::span<const std::string_view> args) {
         throw UsageError("push: missing --force fx,fy,fz or --torque tx,ty,tz");
       }
       break;
+    case Command::kSet:
+      expect_positional(1, "the body (a name or an id)");
+      o.body = std::string(positional[0]);
+      if (!o.position && !o.orientation && !o.velocity && !o.angular_velocity) {
+        throw UsageError(
+            "set: nothing to set (--position, --orientation or --rpy, --velocity, "
+            "--angular-velocity)");
+      }
+      break;
+    case Command::kReset:
+      if (positional.size() > 1) {
+        throw UsageError("reset: unexpected argument " + quoted(positional[1]));
+      }
+      if (!positional.empty()) o.body = std::string(positional[0]);
+      break;
     default:
       expect_positional(0, "");
       break;
@@ -182,7 +245,9 @@ Commands:
       --count N           stop after N reports
   pause | resume          stop or restart the loop's ticks
   step N                  N ticks, then stay paused (the loop must be paused)
-  reset                   back to the scene's initial state at tick 0, wrenches cleared
+  reset [BODY]            back to the scene's initial state at tick 0, wrenches cleared; with
+                          BODY (name or id), that body alone back to its scene state, the
+                          wrenches on it dropped (the tick goes on)
   rate X                  real-time factor X (realtime mode), 0 < X <= 1000
   push BODY [--force FX,FY,FZ] [--at PX,PY,PZ] [--torque TX,TY,TZ] [--frame body|world]
        [--for S]          a force on BODY (name or id) at a point from its centre of mass, in
@@ -190,6 +255,13 @@ Commands:
                           are in the world frame unless --frame body. It acts for S seconds of
                           sim time (default 1 s, or the scene's max_ttl if less; 0: one tick);
                           rigidctl waits until rigidd has accepted it and prints the impulse
+  set BODY [--position X,Y,Z] [--orientation W,X,Y,Z | --rpy R,P,Y] [--velocity VX,VY,VZ]
+      [--angular-velocity WX,WY,WZ] [--frame body|world]
+                          sets those parts of BODY's state (the others keep theirs) between two
+                          ticks: the position of its centre of mass in the world frame, its
+                          orientation (a unit quaternion, or roll, pitch, yaw in degrees: Rz Ry Rx),
+                          its velocity and angular velocity in the world frame, or with --frame
+                          body in the body's frame as oriented after the edit
 
 Options:
 )";
@@ -197,8 +269,9 @@ Options:
   text += R"(  --timeout S        how long to wait for rigidd's answer (default 5)
   -h, --help         show this help
 
-Control commands (pause, resume, step, reset, rate) wait for rigidd's reply and print it; push
-waits for rigidd to accept the wrench (it says so on rigid/accepted).
+Control commands (pause, resume, step, reset, rate) and edits (set, reset BODY) wait for rigidd's
+reply and print it with the tick it took effect at; push waits for rigidd to accept the wrench
+(it says so on rigid/accepted).
 Exit status: 0 done; 1 refused: by rigidd, or by rigidctl before sending for what rigidd would
 refuse (a body the scene lacks, a force, torque or --for above the scene's limits), or a bus could
 not be set up; 2 a bad command line (what the command line alone shows); 3 no answer from rigidd

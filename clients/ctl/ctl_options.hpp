@@ -3,6 +3,7 @@
 // needs the running scene (a body's name, the scene's limits) is checked later, against it.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -25,6 +26,7 @@ enum class Command {
   kReset,
   kRate,
   kPush,
+  kSet,
 };
 
 struct CtlOptions {
@@ -49,8 +51,13 @@ struct CtlOptions {
   rigid::Vec3 force{};
   rigid::Vec3 torque{};
   rigid::Vec3 point{};
-  rigid::Frame frame = rigid::Frame::kWorld;  // of the force and the torque
+  rigid::Frame frame = rigid::Frame::kWorld;  // of the force and the torque; set: the velocities
   std::optional<double> for_seconds;  // ttl (0: one tick); unset: push_request.hpp's default
+  // set BODY (body, and frame: of the velocities); reset BODY (body; empty: the whole world)
+  std::optional<rigid::Vec3> position;
+  std::optional<std::array<double, 4>> orientation;  // w, x, y, z (--orientation or --rpy)
+  std::optional<rigid::Vec3> velocity;
+  std::optional<rigid::Vec3> angular_velocity;
 };
 
 // Parses the arguments after the program name. Throws clients::UsageError.

@@ -75,6 +75,60 @@ int bodies(const CtlOptions& o, Session& session, const clients::DdsLog& log, st
   return kExitOk;
 }
 
+// set BODY ..., reset BODY: an edit, answered like a control.
+int edit(const CtlOptions& o, Session& session, const clients::DdsLog& log, std::ostream& out,
+         std::ostream& err) {
+  const std::string_view what = o.command == Command::kSet ? "set" : "reset";
+  const auto scene = session.wait_scene(o.timeout);
+  if (!scene) {
+    err << no_answer(o, log, "SceneInfo") << '\n';
+    return kExitTimeout;
+  }
+  const auto body = client::find_body(*scene, o.body);
+  if (!body) {
+    // Refused here as rigidd would refuse it, with its exit status (1), as push does.
+    err << "rigidctl: " << what << ": refused: no body " << clients::quoted(o.body)
+        << " in the scene (bodies: " << client::body_list(*scene) << ")\n";
+    return kExitFailed;
+  }
+  std::optional<rigid::ControlReply> reply;
+  if (o.command == Command::kSet) {
+    rigid::StateEdit s;
+    if (o.position) {
+      s.set |= rigid::kSetPosition;
+      s.position = *o.position;
+    }
+    if (o.orientation) {
+      s.set |= rigid::kSetOrientation;
+      s.orientation = *o.orientation;
+    }
+    if (o.velocity) {
+      s.set |= rigid::kSetLinearVelocity;
+      s.linear_velocity = *o.velocity;
+      s.velocity_frame = o.frame;
+    }
+    if (o.angular_velocity) {
+      s.set |= rigid::kSetAngularVelocity;
+      s.angular_velocity = *o.angular_velocity;
+      s.angular_velocity_frame = o.frame;
+    }
+    reply = session.set_state(*body, s, o.timeout);
+  } else {
+    reply = session.reset_body(*body, o.timeout);
+  }
+  if (!reply) {
+    err << no_answer(o, log, "reply to " + std::string(what)) << '\n';
+    return kExitTimeout;
+  }
+  if (reply->outcome != rigid::Outcome::kOk) {
+    err << "rigidctl: " << what << ": " << client::outcome_name(reply->outcome) << ": "
+        << reply->message << '\n';
+    return kExitFailed;
+  }
+  out << what << ": ok at tick " << reply->tick << " on " << o.body << " (id " << *body << ")\n";
+  return kExitOk;
+}
+
 int control(const CtlOptions& o, Session& session, const clients::DdsLog& log, std::ostream& out,
             std::ostream& err) {
   rigid::ControlCommand c;
@@ -394,10 +448,14 @@ int run(const CtlOptions& o, util::SignalWatcher& signals, std::ostream& out, st
       return stats(o, *session, log, signals, out, err);
     case Command::kPush:
       return push(o, *session, log, out, err);
+    case Command::kSet:
+      return edit(o, *session, log, out, err);
+    case Command::kReset:
+      if (!o.body.empty()) return edit(o, *session, log, out, err);
+      return control(o, *session, log, out, err);
     case Command::kPause:
     case Command::kResume:
     case Command::kStep:
-    case Command::kReset:
     case Command::kRate:
       return control(o, *session, log, out, err);
   }

@@ -234,6 +234,13 @@ class Viewer {
   // Bus thread: the newest accepted wrench per (source, body, key), bounded; the pump forwards
   // them to the pages at most kWrenchRate times a second, whatever rate controllers send at.
   void accepted(const AcceptedCommand& a) {
+    if (a.kind == AcceptedKind::kEdit) {
+      // An edit changes its body's energy and momentum, which is not drift: its reference is
+      // taken again (drift.hpp), as for a wrench of one tick.
+      const std::lock_guard lock(mutex_);
+      if (drives_.size() < kMaxPendingDrives) drives_.push_back(Drive{a.body_id, a.tick, 0.0});
+      return;
+    }
     if (a.kind != AcceptedKind::kWrench) return;
     const std::lock_guard lock(mutex_);
     if (drives_.size() < kMaxPendingDrives) drives_.push_back(Drive{a.body_id, a.tick, a.ttl});
@@ -388,6 +395,12 @@ class Viewer {
           break;
         case view::Op::kReset:
           r = session_.reset(kControlPatience);
+          break;
+        case view::Op::kSetState:
+          r = session_.set_state(c.body, c.state, kControlPatience);
+          break;
+        case view::Op::kResetBody:
+          r = session_.reset_body(c.body, kControlPatience);
           break;
         case view::Op::kPush:
         case view::Op::kPlay:  // playback only: refused by the server in live mode

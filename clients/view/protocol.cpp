@@ -67,7 +67,7 @@ void numbers(std::string& out, const double* v, std::size_t n) {
 }
 
 // A strict reader of one flat JSON object: string keys and values without escapes, numbers,
-// arrays of up to three numbers. Anything else is refused.
+// arrays of up to four numbers (a quaternion). Anything else is refused.
 class Reader {
  public:
   explicit Reader(std::string_view s) : s_(s) {}
@@ -102,7 +102,7 @@ class Reader {
         if (!eat(']')) {
           for (;;) {
             double d;
-            if (v.array.size() >= 3 || !num(d)) return "bad array (at most 3 numbers)";
+            if (v.array.size() >= 4 || !num(d)) return "bad array (at most 4 numbers)";
             v.array.push_back(d);
             ws();
             if (eat(']')) break;
@@ -330,6 +330,10 @@ std::string scene_json(const SceneDescription& scene, std::uint64_t generation) 
   integer(out, scene.publish_every);
   out += ",\"gravity\":";
   numbers(out, scene.gravity.data(), 3);
+  out += ",\"max_force\":";
+  number(out, scene.max_force);
+  out += ",\"max_torque\":";
+  number(out, scene.max_torque);
   out += ",\"bodies\":[";
   if (scene.lengths_agree()) {
     for (std::size_t i = 0; i < scene.body_count(); ++i) {
@@ -538,6 +542,10 @@ std::string_view op_name(Op op) {
       return "speed";
     case Op::kWatch:
       return "watch";
+    case Op::kSetState:
+      return "set_state";
+    case Op::kResetBody:
+      return "reset_body";
   }
   return "?";
 }
@@ -580,6 +588,31 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
         out[k] = v.array[k];
       }
       (key == "force" ? have_force : have_point) = true;
+    } else if (key == "position" || key == "velocity" || key == "angular_velocity" ||
+               key == "orientation") {
+      const bool q = key == "orientation";
+      const std::size_t n = q ? 4 : 3;
+      const double limit = q ? 1.01 : kMaxEditValue;  // rigidd wants a unit quaternion
+      if (v.kind != K::kArray || v.array.size() != n)
+        return std::string(key) + (q ? ": expected [w, x, y, z]" : ": expected [x, y, z]");
+      for (std::size_t k = 0; k < n; ++k) {
+        if (!(std::abs(v.array[k]) <= limit))
+          return std::string(key) + ": component beyond " + (q ? "1.01" : "1e9");
+      }
+      rigid::StateEdit& s = c.state;
+      if (key == "position") {
+        std::copy_n(v.array.begin(), 3, s.position.begin());
+        s.set |= rigid::kSetPosition;
+      } else if (key == "velocity") {
+        std::copy_n(v.array.begin(), 3, s.linear_velocity.begin());
+        s.set |= rigid::kSetLinearVelocity;
+      } else if (key == "angular_velocity") {
+        std::copy_n(v.array.begin(), 3, s.angular_velocity.begin());
+        s.set |= rigid::kSetAngularVelocity;
+      } else {
+        std::copy_n(v.array.begin(), 4, s.orientation.begin());
+        s.set |= rigid::kSetOrientation;
+      }
       // Playback (rigid-view FILE).
     } else if (key == "tick") {
       if (v.kind != K::kNumber || !whole(v.num, 0, static_cast<double>(kMaxCommandId)))
@@ -614,11 +647,26 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
     c.op = Op::kPush;
     if (!have_body || !have_force || !have_point)
       return std::string("push: needs body, force and point");
-    if (have_speed || c.tick >= 0 || c.time) return std::string("push: unexpected field");
+    if (have_speed || c.tick >= 0 || c.time || c.state.set != 0)
+      return std::string("push: unexpected field");
+    return c;
+  } else if (op == "set_state" || op == "reset_body") {
+    c.op = op == "set_state" ? Op::kSetState : Op::kResetBody;
+    if (!have_id) return std::string(op) + ": missing id";
+    if (!have_body) return std::string(op) + ": missing body";
+    if (c.op == Op::kSetState && c.state.set == 0)
+      return std::string(
+          "set_state: needs one of position, orientation, velocity, "
+          "angular_velocity");
+    if (c.op == Op::kResetBody && c.state.set != 0)
+      return std::string("reset_body: unexpected field");
+    if (have_force || have_point || have_steps || have_speed || c.tick >= 0 || c.time)
+      return std::string(op) + ": unexpected field";
     return c;
   } else if (op == "watch") {
     c.op = Op::kWatch;  // no answer: no id needed; without a body, none
-    if (have_force || have_point || have_steps || have_speed || c.tick >= 0 || c.time)
+    if (have_force || have_point || have_steps || have_speed || c.tick >= 0 || c.time ||
+        c.state.set != 0)
       return std::string("watch: unexpected field");
     return c;
     // Playback (rigid-view FILE).
@@ -635,8 +683,9 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
     return op.empty() ? std::string("missing op") : "unknown op " + std::string(op);
   }
   if (!have_id) return std::string(op) + ": missing id";
-  if (have_body || have_force || have_point || (have_steps && c.op != Op::kStep) ||
-      (have_speed && c.op != Op::kSpeed) || ((c.tick >= 0 || c.time) && c.op != Op::kSeek))
+  if (have_body || have_force || have_point || c.state.set != 0 ||
+      (have_steps && c.op != Op::kStep) || (have_speed && c.op != Op::kSpeed) ||
+      ((c.tick >= 0 || c.time) && c.op != Op::kSeek))
     return std::string(op) + ": unexpected field";
   return c;
 }
@@ -644,8 +693,8 @@ std::variant<PageCommand, std::string> parse_command(std::string_view text) {
 // Playback (rigid-view FILE).
 std::string refusal_in_mode(const PageCommand& c, bool playback) {
   const bool for_playback = c.op == Op::kPlay || c.op == Op::kSeek || c.op == Op::kSpeed;
-  const bool for_rigidd =
-      c.op == Op::kResume || c.op == Op::kStep || c.op == Op::kReset || c.op == Op::kPush;
+  const bool for_rigidd = c.op == Op::kResume || c.op == Op::kStep || c.op == Op::kReset ||
+                          c.op == Op::kPush || c.op == Op::kSetState || c.op == Op::kResetBody;
   if (playback && for_rigidd) {
     return std::string(op_name(c.op)) +
            ": not while playing a recording (there is no rigidd to command; use play, pause, "

@@ -24,6 +24,9 @@
 // Page commands (text, at most kMaxCommandBytes, one flat JSON object):
 //   {"op":"pause"|"resume"|"reset","id":N}   {"op":"step","id":N,"steps":K}
 //   {"op":"push","body":ID,"force":[x,y,z],"point":[x,y,z]}   (force in W, point from the CoM in B)
+//   {"op":"set_state","id":N,"body":ID, and one or more of "position":[x,y,z] (p_WBo),
+//    "orientation":[w,x,y,z] (q_WB), "velocity":[x,y,z], "angular_velocity":[x,y,z] (in W)}
+//   {"op":"reset_body","id":N,"body":ID}   (rigidd's edits, answered like the controls)
 //   {"op":"ack"}   (exactly these bytes: the page has drawn a state frame; see kAckCommand)
 //   {"op":"watch","body":ID} or {"op":"watch"} (none): the body whose exact state this page shows
 //   (pose frames' watched records); re-sent every second while it holds (kWatchLifetime), no
@@ -95,6 +98,8 @@ inline constexpr std::int64_t kMaxSteps = 1'000'000;
 inline constexpr std::int64_t kMaxCommandId = (std::int64_t{1} << 53);  // exact in JavaScript
 inline constexpr double kMaxPushForce = 1e4;  // N; rigidd's limits.max_force still applies
 inline constexpr double kMaxPushPoint = 100;  // m from the centre of mass
+inline constexpr double kMaxEditValue =
+    1e9;  // |component| of a set_state's vectors (m, m/s, rad/s)
 // Playback (rigid-view FILE): the speed range, and the largest |time| a seek may name (s).
 inline constexpr double kMinPlaybackSpeed = 1.0 / 64;
 inline constexpr double kMaxPlaybackSpeed = 64;
@@ -120,9 +125,11 @@ inline std::size_t pose_state_bytes(std::size_t bodies, std::size_t watched) {
 // "cylinder", "capsule", "ellipsoid" (dims as in SceneDescription), or for a body without a shape
 // the uniform box with its principal moments ("box", size, and "frame": the principal axes in B
 // as w, x, y, z); and for the page's energy and momentum: "mass" and "inertia" (Ixx, Iyy, Izz,
-// Ixy, Ixz, Iyz about the CoM, in B), and the scene's "gravity" (W). A scene with static parts
-// also has "parts": each one's name, "shape" ("plane", "box", "sphere", "cylinder", "capsule"),
-// pose "p" (p_WS) and "q" (q_WS: w, x, y, z) and "dims" (as a body's; a plane is z = 0 of S).
+// Ixy, Ixz, Iyz about the CoM, in B), and the scene's "gravity" (W); and its limits on a command,
+// "max_force" and "max_torque" (<= 0: none), which bound the page's pushes. A scene with static
+// parts also has "parts": each one's name, "shape" ("plane", "box", "sphere", "cylinder",
+// "capsule"), pose "p" (p_WS) and "q" (q_WS: w, x, y, z) and "dims" (as a body's; a plane is z = 0
+// of S).
 std::string scene_json(const SceneDescription& scene, std::uint64_t generation);
 std::string stats_json(const StatsReport& stats);
 // {"type":"wrenches","wrenches":[{"body":ID,"tick":T,"ttl":S,"force":[..],"force_frame":"world"|
@@ -157,17 +164,30 @@ struct PlaybackStatus {
 };
 std::string playback_json(const PlaybackStatus& status);
 
-enum class Op { kPause, kResume, kStep, kReset, kPush, kPlay, kSeek, kSpeed, kWatch };
+enum class Op {
+  kPause,
+  kResume,
+  kStep,
+  kReset,
+  kPush,
+  kPlay,
+  kSeek,
+  kSpeed,
+  kWatch,
+  kSetState,
+  kResetBody
+};
 std::string_view op_name(Op op);
 
 struct PageCommand {
   Op op = Op::kPause;
   std::int64_t id = 0;
   std::int64_t steps = 0;  // kStep
-  std::int32_t body = -1;  // kPush; kWatch (-1: none)
+  std::int32_t body = -1;  // kPush, kSetState, kResetBody; kWatch (-1: none)
   rigid::Vec3 force{};     // kPush
   rigid::Vec3 point{};     // kPush
   double ttl = 0;  // kPush from a Foxglove client: its duration (s); 0: the page's re-sent push
+  rigid::StateEdit state;  // kSetState: the parts given (set), in the world frame
   // Playback. kSeek: exactly one of tick (>= 0) and time (finite); the other stays at its default.
   std::int64_t tick = -1;
   std::optional<double> time;
@@ -178,8 +198,8 @@ struct PageCommand {
 // The command, or one line saying why the text is refused.
 std::variant<PageCommand, std::string> parse_command(std::string_view text);
 // Why a valid command is refused in this mode ("" when it is not): rigidd's controls other than
-// pause, and pushes, have no rigidd to go to while playing a recording; play, seek and speed have
-// no recording to act on in live mode.
+// pause, pushes and edits have no rigidd to go to while playing a recording; play, seek and speed
+// have no recording to act on in live mode.
 std::string refusal_in_mode(const PageCommand& command, bool playback);
 
 // The uniform box with the same principal moments as `inertia` (Ixx, Iyy, Izz, Ixy, Ixz, Iyz) and

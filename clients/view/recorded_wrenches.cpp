@@ -93,6 +93,21 @@ void RecordedWrenches::command(const AcceptedCommand& a, double dt) {
     }
     return;
   }
+  if (a.kind == AcceptedKind::kEdit) {
+    if (a.edit != EditKind::kResetBody) return;
+    // rigidd drops the wrenches acting on the body it resets: they end at the reset's tick.
+    const std::uint32_t stretch = stretch_of(a.tick);
+    for (auto it = open_.begin(); it != open_.end();) {
+      if (std::get<0>(it->first) != stretch || std::get<2>(it->first) != a.body_id) {
+        ++it;
+        continue;
+      }
+      RecordedWrench& w = wrenches_[it->second];
+      w.until = std::min(w.until, a.tick);
+      it = open_.erase(it);
+    }
+    return;
+  }
   if (a.kind != AcceptedKind::kWrench) return;
   if (!(std::isfinite(a.ttl) && a.ttl >= 0)) return;
   const std::int64_t ticks = ticks_of(a.ttl, dt);

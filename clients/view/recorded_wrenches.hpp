@@ -5,7 +5,8 @@
 // steps k -> k+1 ... k+n-1 -> k+n, n = ticks_to_live(ttl, dt) (server/common/wrench_table.hpp), so
 // it is shown with the states its steps produced: k < tick <= k + n. A later wrench with the same
 // (source, body, key) replaces it from its own tick k' (shown up to k'), and a reset at tick r
-// clears it (shown up to r), as rigidd's wrench table does.
+// clears it (shown up to r), as does a reset of its body alone (an edit), as rigidd's wrench
+// table does.
 //
 // A recording holds two streams in one file: the states and the accepted commands, each in order,
 // but not in order with each other (rigid-record writes each as it arrives). Ticks start again

@@ -63,8 +63,15 @@ class Builder {
     drift_.set_scene(d);
   }
 
-  // An accepted command, in file order (only wrenches and resets matter to the arrows).
+  // An accepted command, in file order (only wrenches, resets and edits matter to the arrows and
+  // the drifts).
   void command(const AcceptedCommand& a) {
+    if (a.kind == AcceptedKind::kEdit) {
+      // An edit changes its body's energy and momentum: not drift (nor does it cost memory).
+      if (states_place_wrenches_) drive(a.body_id, a.tick, 0.0);
+      r_.wrenches.command(a, r_.scenes.empty() ? 0.0 : r_.scenes.back().dt);
+      return;
+    }
     if (a.kind != AcceptedKind::kWrench &&
         !(a.kind == AcceptedKind::kControl && a.command == ControlKind::kReset))
       return;
@@ -206,7 +213,8 @@ void from_journal(Recording& r, const msgs::LogHeader& header, const LoadLimits&
           ++hashes;
         } else if (record.has_command()) {
           common::from_record(record.command(), a);
-          if (a.kind != AcceptedKind::kWrench) continue;
+          // A wrench drives its body for its ttl; an edit for the tick it was made at.
+          if (a.kind != AcceptedKind::kWrench && a.kind != AcceptedKind::kEdit) continue;
           if ((drives.size() + 1) * sizeof(Drive) > limits.max_bytes) {
             throw RecordingError(r.path + ": its wrenches need more than " +
                                  megabytes(limits.max_bytes) +

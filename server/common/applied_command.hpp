@@ -1,6 +1,6 @@
 // Commands as the loop applies them: validated, body names resolved to ids, fixed size and
 // trivially copyable. The loop's intake makes them (loop/command_validation.hpp), the wrench table
-// holds them, the journal records them and a replay applies them again.
+// holds the wrenches, the journal records them all and a replay applies them again.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +33,19 @@ struct Control {
   double rtf = 0.0;
 };
 
+// An edit whose numbers are finite and fields known (a kind, frames, a non-zero orientation when it
+// sets one), on a body that is a valid id. The loop makes it between two ticks
+// (DrivenWorld::edit).
+struct Edit : rigid::StateEdit {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  rigid::EditKind kind = rigid::EditKind::kNone;
+  std::int32_t body = 0;
+  std::int64_t stamp_ns = 0;  // the sender's stamp (CLOCK_REALTIME), passed through
+};
+
 static_assert(std::is_trivially_copyable_v<Wrench>);
 static_assert(std::is_trivially_copyable_v<Control>);
+static_assert(std::is_trivially_copyable_v<Edit>);
 
 }  // namespace rigid::common

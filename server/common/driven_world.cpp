@@ -60,6 +60,34 @@ void DrivenWorld::step_tick() {
   wrenches_.expire(tick_);
 }
 
+void DrivenWorld::edit(const Edit& e) {
+  const int id = e.body;
+  if (e.kind == rigid::EditKind::kResetBody) {
+    const physics::BodySpec spec = world_.body_spec(id);
+    world_.set_state(id, physics::BodyState{spec.p_WBo, spec.q_WB, spec.v_WBo, spec.w_WB});
+    wrenches_.drop_body(id);
+    world_.clear_applied(id);  // (the next tick's rebuild would too: loaded_ still lists it)
+    return;
+  }
+  physics::BodyState s = world_.state(id);
+  if ((e.set & rigid::kSetPosition) != 0) s.p_WBo = eigen(e.position);
+  if ((e.set & rigid::kSetOrientation) != 0) {
+    const auto& q = e.orientation;
+    s.q_WB = physics::Quat(q[0], q[1], q[2], q[3]).normalized();
+  }
+  // B after the edit: R_WB maps a velocity expressed in B to W.
+  const physics::Quat& q_WB = s.q_WB;
+  if ((e.set & rigid::kSetLinearVelocity) != 0) {
+    const physics::Vec3 v = eigen(e.linear_velocity);
+    s.v_WBo = e.velocity_frame == rigid::Frame::kBody ? physics::Vec3(q_WB * v) : v;
+  }
+  if ((e.set & rigid::kSetAngularVelocity) != 0) {
+    const physics::Vec3 w = eigen(e.angular_velocity);
+    s.w_WB = e.angular_velocity_frame == rigid::Frame::kBody ? physics::Vec3(q_WB * w) : w;
+  }
+  world_.set_state(id, s);
+}
+
 void DrivenWorld::reset() {
   world_.reset();  // also clears the applied loads
   wrenches_.clear();

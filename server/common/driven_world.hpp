@@ -1,8 +1,9 @@
-// A physics World driven by wrench commands one tick at a time: the table of acting wrenches, the
-// world's applied loads rebuilt from it before each tick, and the tick counter. The loop (loop.hpp)
-// drives its world through this class, and rigid-sim --replay drives its own through it too, so a
-// replay applies each journaled wrench exactly as the live loop did: the same table, the same
-// order of summation, the same expiry. Nothing here knows about time, threads or buses.
+// A physics World driven by wrench commands and edits one tick at a time: the table of acting
+// wrenches, the world's applied loads rebuilt from it before each tick, and the tick counter. The
+// loop (loop.hpp) drives its world through this class, and rigid-sim --replay drives its own
+// through it too, so a replay applies each journaled wrench and edit exactly as the live loop did:
+// the same table, the same order of summation, the same expiry, the same arithmetic on a state
+// edit. Nothing here knows about time, threads or buses.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,14 @@ class DrivenWorld {
   void expect_tick(std::int64_t within_ns) { world_.expect_step(within_ns); }
   // The scene's initial state at tick 0, with no wrenches.
   void reset();
+  // A validated edit, between two ticks. kSetState: the parts it sets replace the body's (a
+  // velocity in the body frame turned by the orientation the body has after the edit), the
+  // others stay; the world re-applies the body's frozen axes. kResetBody: the body's scene state,
+  // and the wrenches acting on it dropped. Either way a body the guard froze stays frozen (a
+  // world reset thaws it); the state reads back to round-off (the world keeps a body's rotation
+  // in its principal frame). Allocates only to copy a reset body's scene entry
+  // (World::body_spec) when its name is longer than std::string keeps inline (15 characters).
+  void edit(const Edit& edit);
   // Does ahead the first-step work of the next tick (World::prepare_step: the caches a world
   // makes on its first step and after a reset). Changes no state.
   int prepare_tick() { return world_.prepare_step(); }

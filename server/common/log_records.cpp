@@ -199,6 +199,7 @@ void to_record(const rigid::AcceptedCommand& in, std::int64_t recorded_ns,
                msgs::CommandRecord& out) {
   out.set_tick(in.tick);
   out.set_kind(in.kind == rigid::AcceptedKind::kControl ? msgs::CommandRecord::CONTROL
+               : in.kind == rigid::AcceptedKind::kEdit  ? msgs::CommandRecord::EDIT
                                                         : msgs::CommandRecord::WRENCH);
   out.set_source(in.source);
   out.set_seq(in.seq);
@@ -215,11 +216,36 @@ void to_record(const rigid::AcceptedCommand& in, std::int64_t recorded_ns,
   out.set_rtf(in.rtf);
   out.set_stamp_ns(in.stamp_ns);
   out.set_recorded_ns(recorded_ns);
+  // The edit's fields only on an edit's record: a wrench's or a control's stays as it was.
+  out.clear_position();
+  out.clear_orientation();
+  out.clear_linear_velocity();
+  out.clear_angular_velocity();
+  if (in.kind != rigid::AcceptedKind::kEdit) {
+    out.set_edit(0);
+    out.set_set(0);
+    out.set_velocity_frame(msgs::Force::WORLD);
+    out.set_angular_velocity_frame(msgs::Force::WORLD);
+    return;
+  }
+  out.set_edit(static_cast<std::int32_t>(in.edit));
+  out.set_set(in.set);
+  put3(in.position, out.mutable_position());
+  msgs::Quaternion* q = out.mutable_orientation();
+  q->set_w(in.orientation[0]);
+  q->set_x(in.orientation[1]);
+  q->set_y(in.orientation[2]);
+  q->set_z(in.orientation[3]);
+  put3(in.linear_velocity, out.mutable_linear_velocity());
+  out.set_velocity_frame(put_frame(in.velocity_frame));
+  put3(in.angular_velocity, out.mutable_angular_velocity());
+  out.set_angular_velocity_frame(put_frame(in.angular_velocity_frame));
 }
 
 void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out) {
   out.tick = in.tick();
   out.kind = in.kind() == msgs::CommandRecord::CONTROL ? rigid::AcceptedKind::kControl
+             : in.kind() == msgs::CommandRecord::EDIT  ? rigid::AcceptedKind::kEdit
                                                        : rigid::AcceptedKind::kWrench;
   out.source = in.source();
   out.seq = in.seq();
@@ -235,6 +261,20 @@ void from_record(const msgs::CommandRecord& in, rigid::AcceptedCommand& out) {
   out.steps = in.steps();
   out.rtf = in.rtf();
   out.stamp_ns = in.stamp_ns();
+  out.edit = static_cast<rigid::EditKind>(in.edit());
+  out.set = in.set();
+  out.position = get3(in.position());
+  // A record without an orientation (a wrench's, a control's) reads as the plain default.
+  if (in.has_orientation()) {
+    const msgs::Quaternion& q = in.orientation();
+    out.orientation = {q.w(), q.x(), q.y(), q.z()};
+  } else {
+    out.orientation = rigid::StateEdit{}.orientation;
+  }
+  out.linear_velocity = get3(in.linear_velocity());
+  out.velocity_frame = get_frame(in.velocity_frame());
+  out.angular_velocity = get3(in.angular_velocity());
+  out.angular_velocity_frame = get_frame(in.angular_velocity_frame());
 }
 
 void to_record(const rigid::ContactEvents& in, std::int64_t recorded_ns, msgs::ContactRecord& out) {

@@ -16,6 +16,7 @@
 #include "common/state_conversion.hpp"
 #include "common/state_hash.hpp"
 #include "common/world_csv.hpp"
+#include "rigid/names.hpp"
 #include "scene/scene.hpp"
 #include "util/atomic_file.hpp"
 
@@ -183,6 +184,29 @@ ReplayReport replay(const ReplayOptions& options, const StateSink& on_state,
                 "a wrench rigidd accepted finds the replay's wrench table full (" +
                     std::to_string(capacity) + " entries)"};
           }
+        } else if (accepted.kind == rigid::AcceptedKind::kEdit) {
+          ++r.edits;
+          const Edit e = edit_of(accepted);
+          // rigidd validated it; a journal written by hand (or damaged in a way the checksums
+          // missed) could still name a body the scene lacks, or a state set_state refuses.
+          const auto& q = e.orientation;
+          const bool sets_orientation = (e.set & rigid::kSetOrientation) != 0;
+          if (e.body < 0 || e.body >= bodies ||
+              (e.kind != rigid::EditKind::kSetState && e.kind != rigid::EditKind::kResetBody) ||
+              (sets_orientation &&
+               !(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 0.5))) {
+            r.divergence = ReplayReport::Divergence{
+                accepted.tick, 0, 0,
+                "an edit (" + std::string(rigid::edit_name(e.kind)) + ") on body " +
+                    std::to_string(e.body) + " that this scene cannot take"};
+          } else {
+            try {
+              driven.edit(e);
+            } catch (const std::invalid_argument& error) {
+              r.divergence = ReplayReport::Divergence{accepted.tick, 0, 0,
+                                                      std::string("an edit: ") + error.what()};
+            }
+          }
         } else {
           ++r.controls;
           if (accepted.command == rigid::ControlKind::kReset) {
@@ -277,7 +301,8 @@ void print_replay(std::ostream& out, const ReplayReport& r) {
   out << "replay of " << r.journal << " (written by " << r.software_version << ")\n"
       << "scene " << r.scene << ", " << r.rate_hz << " Hz, integrator " << r.integrator << '\n'
       << r.ticks << " ticks, " << r.wrenches << " wrenches, " << r.controls << " controls ("
-      << r.resets << " resets), " << r.hashes_compared << " state hashes compared";
+      << r.resets << " resets), " << r.edits << " edits, " << r.hashes_compared
+      << " state hashes compared";
   if (r.contact_hashes_compared > 0) {
     out << ", " << r.contact_events << " contact events in " << r.contact_hashes_compared
         << " ticks compared";

@@ -1,9 +1,10 @@
 // rigid-sim --replay: re-runs a session rigidd journaled (rigidd --journal) and checks that it
-// reproduces it bit for bit. Each journaled command is applied at the tick at which it took effect
-// live, through the loop's own DrivenWorld (the same wrench table, order of summation and expiry
-// as the live loop), and each journaled state hash is compared with the hash of the state the
-// replay reaches at that tick, and each contact hash with the hash of the contact events of that
-// tick. The first mismatch is the divergence, reported with its tick.
+// reproduces it bit for bit. Each journaled command (wrench, control, edit) is applied at the tick
+// at which it took effect live, through the loop's own DrivenWorld (the same wrench table, order of
+// summation and expiry, the same edits as the live loop), and each journaled state hash is
+// compared with the hash of the state the replay reaches at that tick, and each contact hash with
+// the hash of the contact events of that tick. The first mismatch is the divergence, reported with
+// its tick.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +29,7 @@ struct ReplayReport {
   std::int64_t wrenches = 0;
   std::int64_t controls = 0;
   std::int64_t resets = 0;
+  std::int64_t edits = 0;
   std::int64_t hashes_compared = 0;
   std::int64_t contact_hashes_compared = 0;  // ticks with contact events, each verified
   std::int64_t contact_events = 0;           // in those ticks

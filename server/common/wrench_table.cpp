@@ -78,11 +78,20 @@ WrenchTable::Upsert WrenchTable::upsert(const Wrench& wrench, std::uint64_t send
 }
 
 std::size_t WrenchTable::expire(std::int64_t tick) {
+  return drop_where([tick](const ActiveWrench& e) { return e.expires_at_tick <= tick; });
+}
+
+std::size_t WrenchTable::drop_body(std::int32_t body) {
+  return drop_where([body](const ActiveWrench& e) { return e.wrench.body == body; });
+}
+
+template <class Drop>
+std::size_t WrenchTable::drop_where(Drop drop) {
   // Stable compaction: survivors keep their relative order; moved ones get their new position.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < size_; ++i) {
     const ActiveWrench& e = entries_[i];
-    if (e.expires_at_tick <= tick) {
+    if (drop(e)) {
       index_.erase(key_of(e.wrench));
       count(e.sender, -1);
       continue;

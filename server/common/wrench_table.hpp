@@ -44,6 +44,8 @@ class WrenchTable {
   std::size_t held_by(std::uint64_t sender);
   // Drops the entries with expires_at_tick <= tick. Returns how many were dropped.
   std::size_t expire(std::int64_t tick);
+  // Drops the entries on `body` (the others keep their order). Returns how many were dropped.
+  std::size_t drop_body(std::int32_t body);
   void clear();
 
   std::span<const ActiveWrench> active() const { return {entries_.data(), size_}; }
@@ -70,6 +72,9 @@ class WrenchTable {
     std::uint64_t operator()(std::uint64_t k) const { return util::mix64(k); }
   };
   static Key key_of(const Wrench& w) { return Key{w.owner, w.source, w.body, w.key}; }
+  // Drops the entries for which drop(entry) is true, keeping the others' order.
+  template <class Drop>
+  std::size_t drop_where(Drop drop);
   void count(std::uint64_t sender, int delta);
   // Removes the oldest entry of the sender holding the most entries if it holds more than
   // `than` + 1; false if none does.

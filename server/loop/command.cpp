@@ -61,8 +61,10 @@ std::string_view to_string(ReplyNote note) {
       return "refused: this sender is above its share of the command rate "
              "(limits.max_commands_per_second)";
     case ReplyNote::kNotPermitted:
-      return "not permitted: rigidd runs with --controls off, or this identity may not control";
+      return "not permitted: rigidd runs with --controls off, or this identity may not control "
+             "(controls and edits)";
     case ReplyNote::kWrenchRefused:
+    case ReplyNote::kEditRefused:
       return "refused";
   }
   return "";
@@ -81,6 +83,7 @@ std::string reply_message(const Reply& reply) {
       text += " after " + std::to_string(reply.detail) + " ticks";
       break;
     case ReplyNote::kWrenchRefused:
+    case ReplyNote::kEditRefused:
       text = std::string(reply.text, strnlen(reply.text, sizeof reply.text));
       break;
     default:

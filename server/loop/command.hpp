@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
+#include <variant>
 
 #include "common/applied_command.hpp"
 #include "rigid/messages.hpp"
@@ -17,6 +18,7 @@ namespace rigid::loop {
 
 // What the loop applies (common/applied_command.hpp), named here as the loop always has.
 using common::Control;
+using common::Edit;
 using common::Wrench;
 
 // Why a command was refused; mirrors rigid::RejectCounts (Stats.rejected).
@@ -30,7 +32,7 @@ enum class RejectReason : std::uint8_t {
   kInvalid,        // any other bad field (frame, ttl < 0, command, steps, rtf)
   kOverShare,      // the sender already holds its share of the wrench table
   kRateLimited,    // the sender is above its share of the command rate
-  kNotPermitted,   // body or control not permitted to the sender (security, --controls off)
+  kNotPermitted,   // body, control or edit not permitted to the sender (security, --controls off)
 };
 inline constexpr int kRejectReasonCount = 10;
 std::string_view to_string(RejectReason reason);
@@ -45,16 +47,14 @@ struct Sender {
 };
 
 struct Command {
-  enum class Kind : std::uint8_t { kWrench, kControl };
-  Kind kind = Kind::kWrench;
-  rigid::Bus bus = rigid::Bus::kDds;  // where it came from (a control is answered there)
+  rigid::Bus bus = rigid::Bus::kDds;  // where it came from (a control or edit is answered there)
   std::int64_t arrival_ns = 0;        // CLOCK_MONOTONIC when the intake received it
   Sender sender;
   // Sequence numbers are kept per bus, client session and source (sequence_table.hpp), so a
   // restarted or reconnected client, or one identity's traffic, never makes another's stale.
   std::uint64_t session_key = 0;
-  Wrench wrench;    // kind == kWrench
-  Control control;  // kind == kControl
+  // One of these at a time: the queue holds 1024 commands, each the size of the largest.
+  std::variant<Wrench, Control, Edit> what;
 };
 static_assert(std::is_trivially_copyable_v<Command>);
 
@@ -75,10 +75,11 @@ enum class ReplyNote : std::uint8_t {
   kRateLimited,         // the sender is above its share of the command rate
   kNotPermitted,        // controls are off, or the identity may not control
   kWrenchRefused,       // the answer to a refused wrench: Reply::text says why
+  kEditRefused,         // an edit that failed validation: Reply::text says why
 };
 std::string_view to_string(ReplyNote note);
 
-// The answer to one control request, routed to the bus it came from.
+// The answer to one control request or edit, routed to the bus it came from.
 struct Reply {
   rigid::Bus bus = rigid::Bus::kDds;
   std::int64_t source = 0;
@@ -88,7 +89,8 @@ struct Reply {
   std::int64_t tick = 0;
   ReplyNote note = ReplyNote::kNone;
   std::int64_t detail = 0;  // a number the note refers to (the last sequence, the step count)
-  char text[200] = {};      // kWrenchRefused: the reason, as logged
+  char text[200] = {};      // kWrenchRefused, kEditRefused: the reason, as logged
+  rigid::EditKind edit = rigid::EditKind::kNone;  // kind == kReplyToEdit: what it answers
 };
 static_assert(std::is_trivially_copyable_v<Reply>);
 

@@ -34,6 +34,14 @@ bool known_frame(rigid::Frame f) {
   return f == rigid::Frame::kWorld || f == rigid::Frame::kBody;
 }
 
+// A bounded, printable excerpt of a name from the network.
+std::string shown_name(const std::string& name) {
+  std::string shown;
+  for (char c : name.substr(0, 64))
+    shown += (c >= 0x20 && c < 0x7f) ? c : '?';
+  return shown;
+}
+
 template <class T>
 Checked<T> refuse(RejectReason reason, std::string detail) {
   Checked<T> c;
@@ -84,11 +92,7 @@ Checked<Wrench> CommandValidator::check(const rigid::WrenchCommand& w) const {
   } else {
     body = bodies_.find(w.body_name);
     if (body < 0) {
-      // The name is from the network: show a bounded, printable excerpt.
-      std::string shown;
-      for (char c : w.body_name.substr(0, 64))
-        shown += (c >= 0x20 && c < 0x7f) ? c : '?';
-      return refuse<Wrench>(R::kUnknownBody, who() + "body_name '" + shown + "'");
+      return refuse<Wrench>(R::kUnknownBody, who() + "body_name '" + shown_name(w.body_name) + "'");
     }
   }
 
@@ -175,6 +179,99 @@ Checked<Control> CommandValidator::check(const rigid::ControlCommand& m, ReplyNo
   Checked<Control> c;
   c.ok = true;
   c.value = Control{m.source, m.seq, m.command, m.steps, m.rtf};
+  return c;
+}
+
+Checked<Edit> CommandValidator::check(const rigid::EditCommand& m) const {
+  using K = rigid::EditKind;
+  using R = RejectReason;
+  const auto who = [&m] {
+    return "edit from source " + std::to_string(m.source) + " seq " + std::to_string(m.seq) + ": ";
+  };
+  if (m.kind != K::kSetState && m.kind != K::kResetBody) {
+    return refuse<Edit>(R::kInvalid, who() + "kind " + std::to_string(static_cast<int>(m.kind)) +
+                                         " (expected 1 set_state or 2 reset_body)");
+  }
+  const bool sets_state = m.kind == K::kSetState;
+  const auto sets = [&](std::int32_t part) { return sets_state && (m.set & part) != 0; };
+  // Only the parts the edit sets are looked at: the others are never applied.
+  if (sets(rigid::kSetPosition) && !finite(m.position)) {
+    return refuse<Edit>(R::kNonFinite, who() + "position " + vec(m.position));
+  }
+  const auto& q = m.orientation;
+  if (sets(rigid::kSetOrientation) &&
+      !(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && std::isfinite(q[3]))) {
+    return refuse<Edit>(R::kNonFinite, who() + "orientation (" + num(q[0]) + ", " + num(q[1]) +
+                                           ", " + num(q[2]) + ", " + num(q[3]) + ")");
+  }
+  if (sets(rigid::kSetLinearVelocity) && !finite(m.linear_velocity)) {
+    return refuse<Edit>(R::kNonFinite, who() + "linear_velocity " + vec(m.linear_velocity));
+  }
+  if (sets(rigid::kSetAngularVelocity) && !finite(m.angular_velocity)) {
+    return refuse<Edit>(R::kNonFinite, who() + "angular_velocity " + vec(m.angular_velocity));
+  }
+
+  int body = -1;
+  if (m.body_id >= 0) {
+    if (m.body_id >= bodies_.size()) {
+      return refuse<Edit>(R::kUnknownBody, who() + "body_id " + std::to_string(m.body_id) +
+                                               " (the scene has " + std::to_string(bodies_.size()) +
+                                               " bodies)");
+    }
+    body = m.body_id;
+  } else {
+    body = bodies_.find(m.body_name);
+    if (body < 0) {
+      return refuse<Edit>(R::kUnknownBody, who() + "body_name '" + shown_name(m.body_name) + "'");
+    }
+  }
+
+  if (sets_state) {
+    if (m.set == 0 || (m.set & ~rigid::kSetAll) != 0) {
+      return refuse<Edit>(R::kInvalid, who() + "set " + std::to_string(m.set) +
+                                           " (expected a combination of 1 position, 2 "
+                                           "orientation, 4 linear_velocity, 8 angular_velocity)");
+    }
+    if (sets(rigid::kSetLinearVelocity) && !known_frame(m.velocity_frame)) {
+      return refuse<Edit>(R::kInvalid, who() + "velocity_frame " +
+                                           std::to_string(static_cast<int>(m.velocity_frame)));
+    }
+    if (sets(rigid::kSetAngularVelocity) && !known_frame(m.angular_velocity_frame)) {
+      return refuse<Edit>(R::kInvalid,
+                          who() + "angular_velocity_frame " +
+                              std::to_string(static_cast<int>(m.angular_velocity_frame)));
+    }
+    if (sets(rigid::kSetOrientation)) {
+      const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (!(std::abs(n - 1.0) <= kOrientationTolerance)) {
+        return refuse<Edit>(R::kInvalid, who() + "orientation (" + num(q[0]) + ", " + num(q[1]) +
+                                             ", " + num(q[2]) + ", " + num(q[3]) + "): |q| " +
+                                             num(n) + " is not 1 (within 1e-3)");
+      }
+    }
+  }
+
+  Checked<Edit> c;
+  c.ok = true;
+  c.value.source = m.source;
+  c.value.seq = m.seq;
+  c.value.kind = m.kind;
+  c.value.body = body;
+  c.value.stamp_ns = m.stamp_ns;
+  if (sets_state) {
+    // Only what is set travels on: the journal and rigid/accepted carry the edit as applied.
+    c.value.set = m.set;
+    if (sets(rigid::kSetPosition)) c.value.position = m.position;
+    if (sets(rigid::kSetOrientation)) c.value.orientation = m.orientation;
+    if (sets(rigid::kSetLinearVelocity)) {
+      c.value.linear_velocity = m.linear_velocity;
+      c.value.velocity_frame = m.velocity_frame;
+    }
+    if (sets(rigid::kSetAngularVelocity)) {
+      c.value.angular_velocity = m.angular_velocity;
+      c.value.angular_velocity_frame = m.angular_velocity_frame;
+    }
+  }
   return c;
 }
 

@@ -1,8 +1,8 @@
 // The checks a command from the network must pass before it may reach the loop, that depend only
 // on the scene (immutable once running), so transport threads can run them concurrently:
 // finite numbers, a known body (by id or by name), force, torque and time to live within the
-// scene's limits, known enumerations. Per-source sequence numbers need state and are checked by
-// the loop (sequence_table.hpp).
+// scene's limits, known enumerations, a unit orientation. Per-source sequence numbers need state
+// and are checked by the loop (sequence_table.hpp).
 #pragma once
 
 #include <cstdint>
@@ -51,11 +51,17 @@ class CommandValidator {
   // Checks the command is known and its argument well-formed (step: steps >= 1; set_rtf: finite,
   // 0 < rtf <= kMaxRtf). A refused control carries the reply note in `note`.
   Checked<Control> check(const rigid::ControlCommand& control, ReplyNote* note) const;
+  // Checks, in order: a known kind; finite numbers; a known body; for kSetState, at least one
+  // part set and no unknown bit, known frames, and an orientation (when set) within
+  // kOrientationTolerance of unit length.
+  Checked<Edit> check(const rigid::EditCommand& edit) const;
 
   const BodyDirectory& bodies() const { return bodies_; }
   const scene::Limits& limits() const { return limits_; }
 
   static constexpr double kMaxRtf = 1000.0;
+  // | |q| - 1 | at most: a quaternion typed with four decimals passes, a wrong one does not.
+  static constexpr double kOrientationTolerance = 1e-3;
   static constexpr std::int64_t kMaxSteps = 1'000'000'000;
 
  private:

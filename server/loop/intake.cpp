@@ -137,13 +137,12 @@ void Intake::on_wrench(const rigid::WrenchCommand& wrench, const transport::Orig
     return;
   }
   Command command;
-  command.kind = Command::Kind::kWrench;
   command.bus = bus_;
   command.sender = sender;
-  command.wrench = checked.value;
-  command.wrench.owner = owner_of(origin);
-  command.session_key = util::mix64(origin.session ^ command.wrench.owner ^
+  checked.value.owner = owner_of(origin);
+  command.session_key = util::mix64(origin.session ^ checked.value.owner ^
                                     (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.what = checked.value;
   if (!enqueue(command)) {
     char detail[200];
     std::snprintf(detail, sizeof detail,
@@ -194,12 +193,11 @@ void Intake::on_control(const rigid::ControlCommand& control, const transport::O
     return;
   }
   Command command;
-  command.kind = Command::Kind::kControl;
   command.bus = bus_;
   command.sender = sender;
   command.session_key = util::mix64(origin.session ^ owner_of(origin) ^
                                     (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
-  command.control = checked.value;
+  command.what = checked.value;
   if (!enqueue(command)) {
     rejects_.recordf(RejectReason::kQueueFull, &sender,
                      "command queue full (%zu): control from %s seq %lld dropped",
@@ -216,6 +214,62 @@ void Intake::on_decode_error(const transport::DecodeError& error) {
                    static_cast<int>(to_string(error.topic).size()), to_string(error.topic).data(),
                    error.payload_size, static_cast<int>(to_string(error.status).size()),
                    to_string(error.status).data());
+}
+
+void Intake::on_edit(const rigid::EditCommand& edit, const transport::Origin& origin) {
+  const Sender sender = sender_of(bus_, origin);
+  Reply reply{bus_, edit.source,      edit.seq, rigid::kReplyToEdit, rigid::Outcome::kInvalid,
+              0,    ReplyNote::kNone, 0};
+  reply.edit = edit.kind;
+  const auto who = [&] {
+    return "edit from " + std::string(sender.name) + " source " + std::to_string(edit.source) +
+           " seq " + std::to_string(edit.seq) + ": ";
+  };
+  // Edits are allowed where controls are: the same switch and, with security, the same
+  // control/IDENTITY partition.
+  if (!policy_.controls || (policy_.secure && !origin.authenticated)) {
+    rejects_.record(RejectReason::kNotPermitted,
+                    who() + (policy_.controls ? "not from an authenticated control/IDENTITY writer"
+                                              : "controls are off (rigidd --controls off)"),
+                    &sender);
+    reply.outcome = rigid::Outcome::kNotAllowed;
+    reply.note = ReplyNote::kNotPermitted;
+    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
+    return;
+  }
+  if (!rates_.take(sender.key, monotonic_ns())) {
+    rejects_.record(RejectReason::kRateLimited,
+                    who() + "above the sender's share of the command rate", &sender);
+    reply.outcome = rigid::Outcome::kNotAllowed;
+    reply.note = ReplyNote::kRateLimited;
+    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
+    return;
+  }
+  const Checked<Edit> checked = validator_.check(edit);
+  if (!checked.ok) {
+    rejects_.record(checked.reason, checked.detail, &sender);
+    reply.note = ReplyNote::kEditRefused;
+    const std::string why = std::string(to_string(checked.reason)) + ": " + checked.detail;
+    const std::size_t n = std::min(why.size(), sizeof reply.text - 1);
+    std::memcpy(reply.text, why.data(), n);
+    reply.text[n] = '\0';
+    replies_.reply(reply);
+    return;
+  }
+  Command command;
+  command.bus = bus_;
+  command.sender = sender;
+  command.session_key = util::mix64(origin.session ^ owner_of(origin) ^
+                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.what = checked.value;
+  if (!enqueue(command)) {
+    rejects_.recordf(RejectReason::kQueueFull, &sender,
+                     "command queue full (%zu): edit from %s seq %lld dropped", queue_.capacity(),
+                     sender.name, static_cast<long long>(edit.seq));
+    reply.outcome = rigid::Outcome::kFailed;
+    reply.note = ReplyNote::kQueueFull;
+    replies_.reply(reply);
+  }
 }
 
 }  // namespace rigid::loop

@@ -1,10 +1,12 @@
 // The receiving end of one bus: runs on that transport's thread, turns each wire command into a
 // validated fixed-size Command (command_validation.hpp) and queues it for the loop, never touching
 // the world. In order, a command must come from a permitted sender (with DDS Security: an
-// authenticated identity, and for a wrench the body its writer's partition names; controls only
-// while they are on), be within its sender's share of the command rate (sender_rates.hpp), and
-// pass validation. Refusals are counted by reason and by sender; a refused control is answered at
-// once, a refused wrench at a bounded rate per sender. Undecodable payloads are counted as such.
+// authenticated identity, and for a wrench the body its writer's partition names; controls and
+// edits only while controls are on), be within its sender's share of the command rate
+// (sender_rates.hpp), and pass validation. Refusals are counted by reason and by sender; a refused
+// control or edit is answered at once (a refusal for permission or rate at a bounded rate per
+// sender), a refused wrench at a bounded rate per sender. Undecodable payloads are counted as
+// such.
 #pragma once
 
 #include "loop/bounded_queue.hpp"
@@ -37,6 +39,7 @@ class Intake final : public transport::Receiver {
 
   void on_wrench(const rigid::WrenchCommand& wrench, const transport::Origin& origin) override;
   void on_control(const rigid::ControlCommand& control, const transport::Origin& origin) override;
+  void on_edit(const rigid::EditCommand& edit, const transport::Origin& origin) override;
   void on_decode_error(const transport::DecodeError& error) override;
 
  private:

@@ -1,6 +1,7 @@
 #include "loop/journal.hpp"
 
 #include <chrono>
+#include <variant>
 
 #include "common/log_records.hpp"
 #include "loop/clock.hpp"
@@ -81,18 +82,18 @@ void Journal::write(const common::JournalEntry& entry) {
     gap_pending_ = false;
   }
   last_tick_ = entry.tick;
-  if (entry.kind == common::JournalEntry::Kind::kStateHash) {
+  if (const auto* published = std::get_if<common::PublishedHash>(&entry.what)) {
     msgs::StateHash* hash = record_.mutable_state_hash();
     hash->set_tick(entry.tick);
-    hash->set_hash(entry.hash);
+    hash->set_hash(published->hash);
     append(record_);
     return;
   }
-  if (entry.kind == common::JournalEntry::Kind::kContactHash) {
+  if (const auto* contacts = std::get_if<common::ContactsHash>(&entry.what)) {
     msgs::ContactHash* hash = record_.mutable_contact_hash();
     hash->set_tick(entry.tick);
-    hash->set_hash(entry.hash);
-    hash->set_events(entry.events);
+    hash->set_hash(contacts->hash);
+    hash->set_events(contacts->events);
     append(record_);
     return;
   }

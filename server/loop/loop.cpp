@@ -42,6 +42,7 @@ Loop::Loop(const physics::WorldSpec& spec, const LoopConfig& config,
       output_(output),
       wrench_sources_(config.source_capacity),
       control_sources_(config.source_capacity),
+      edit_sources_(config.source_capacity),
       schedule_(0, config.tick_dt * 1e9),
       stats_(config.tick_dt, 0),
       summaries_(LoopSummary{}),
@@ -200,10 +201,12 @@ void Loop::drain() {
 }
 
 void Loop::handle(const Command& c) {
-  if (c.kind == Command::Kind::kWrench) {
-    handle_wrench(c);
-  } else {
-    handle_control(c);
+  if (const Wrench* w = std::get_if<Wrench>(&c.what)) {
+    handle_wrench(c, *w);
+  } else if (const Control* k = std::get_if<Control>(&c.what)) {
+    handle_control(c, *k);
+  } else if (const Edit* e = std::get_if<Edit>(&c.what)) {
+    handle_edit(c, *e);
   }
 }
 
@@ -214,17 +217,16 @@ static std::int64_t sequence_key(const Command& c, std::int64_t source) {
       util::mix64(c.session_key ^ util::mix64(static_cast<std::uint64_t>(source))));
 }
 
-void Loop::refuse_wrench(const Command& c, RejectReason reason, const char* detail) {
+void Loop::refuse_wrench(const Command& c, const Wrench& w, RejectReason reason,
+                         const char* detail) {
   rejects_.record(reason, detail, &c.sender);
   char why[200];
   std::snprintf(why, sizeof why, "%.*s: %s", static_cast<int>(to_string(reason).size()),
                 to_string(reason).data(), detail);
-  answer_refused_wrench(output_, rejects_, c.bus, c.wrench.source, c.wrench.seq, c.sender, why,
-                        driven_.tick());
+  answer_refused_wrench(output_, rejects_, c.bus, w.source, w.seq, c.sender, why, driven_.tick());
 }
 
-void Loop::handle_wrench(const Command& c) {
-  const Wrench& w = c.wrench;
+void Loop::handle_wrench(const Command& c, const Wrench& w) {
   const std::int64_t arrival_ns = c.arrival_ns;
   std::int64_t last = 0;
   char detail[200];
@@ -233,7 +235,7 @@ void Loop::handle_wrench(const Command& c) {
                   "wrench from %s source %lld: seq %lld is not above this session's last %lld",
                   c.sender.name, static_cast<long long>(w.source), static_cast<long long>(w.seq),
                   static_cast<long long>(last));
-    refuse_wrench(c, RejectReason::kStaleSequence, detail);
+    refuse_wrench(c, w, RejectReason::kStaleSequence, detail);
     return;
   }
   switch (driven_.apply(w, c.sender.key, config_.wrench_share)) {
@@ -242,51 +244,86 @@ void Loop::handle_wrench(const Command& c) {
                     "wrench table full (%zu live wrenches, none held beyond a fair share): wrench "
                     "from %s seq %lld dropped",
                     driven_.wrench_capacity(), c.sender.name, static_cast<long long>(w.seq));
-      refuse_wrench(c, RejectReason::kQueueFull, detail);
+      refuse_wrench(c, w, RejectReason::kQueueFull, detail);
       return;
     case common::WrenchTable::Upsert::kOverShare:
       std::snprintf(detail, sizeof detail,
                     "wrench from %s seq %lld: the sender already holds its %zu live wrenches "
                     "(limits.max_wrenches_per_source)",
                     c.sender.name, static_cast<long long>(w.seq), config_.wrench_share);
-      refuse_wrench(c, RejectReason::kOverShare, detail);
+      refuse_wrench(c, w, RejectReason::kOverShare, detail);
       return;
     case common::WrenchTable::Upsert::kInserted:
     case common::WrenchTable::Upsert::kReplaced:
       break;
   }
   common::JournalEntry entry;
-  entry.kind = common::JournalEntry::Kind::kWrench;
   entry.tick = driven_.tick();
-  entry.wrench = w;
+  entry.what = w;
   output_.journal(entry);
   accepted_.fetch_add(1, std::memory_order_relaxed);
   new_command_ = true;
   if (first_arrival_ns_ == 0) first_arrival_ns_ = arrival_ns;
 }
 
-void Loop::answer(const Command& c, Outcome outcome, ReplyNote note, std::int64_t detail) {
-  output_.reply(Reply{c.bus, c.control.source, c.control.seq, c.control.kind, outcome,
-                      driven_.tick(), note, detail});
+void Loop::answer(const Command& c, const Control& k, Outcome outcome, ReplyNote note,
+                  std::int64_t detail) {
+  output_.reply(Reply{c.bus, k.source, k.seq, k.kind, outcome, driven_.tick(), note, detail});
 }
 
 void Loop::journal_control(const Control& k) {
   common::JournalEntry entry;
-  entry.kind = common::JournalEntry::Kind::kControl;
   entry.tick = driven_.tick();
-  entry.control = k;
+  entry.what = k;
   output_.journal(entry);
 }
 
-void Loop::handle_control(const Command& c) {
-  const Control& k = c.control;
+void Loop::handle_edit(const Command& c, const Edit& e) {
+  Reply reply{c.bus,          e.source,         e.seq, rigid::kReplyToEdit, Outcome::kOk,
+              driven_.tick(), ReplyNote::kNone, 0};
+  reply.edit = e.kind;
+  std::int64_t last = 0;
+  if (!edit_sources_.accept(sequence_key(c, e.source), e.seq, &last)) {
+    rejects_.recordf(RejectReason::kStaleSequence, &c.sender,
+                     "edit from %s source %lld: seq %lld is not above this session's last %lld",
+                     c.sender.name, static_cast<long long>(e.source), static_cast<long long>(e.seq),
+                     static_cast<long long>(last));
+    reply.outcome = Outcome::kInvalid;
+    reply.note = ReplyNote::kStaleSequence;
+    reply.detail = last;
+    output_.reply(reply);
+    return;
+  }
+  // Validated by the intake: a known kind, a known body, finite numbers, a unit orientation, so
+  // the world takes it (World::set_state throws only for a non-finite state).
+  driven_.edit(e);
+  common::JournalEntry entry;
+  entry.tick = driven_.tick();
+  entry.what = e;
+  output_.journal(entry);
+  accepted_.fetch_add(1, std::memory_order_relaxed);
+  if (first_arrival_ns_ == 0) first_arrival_ns_ = c.arrival_ns;
+  if (wants_tick()) {
+    new_command_ = true;  // the next tick's state, the first stepped from the edited one
+  } else {
+    // Paused: this tick's state again, edited, and hashed again for the journal (a replay checks
+    // it after the edit it journaled at this tick). Paced: the state before it (a step's last)
+    // is not replaced before the buses have it; and handed over before the answer, which the
+    // publishers send after it, so that a client that has the answer has the state too.
+    hashed_tick_ = -1;
+    publish_state(true);
+  }
+  output_.reply(reply);
+}
+
+void Loop::handle_control(const Command& c, const Control& k) {
   std::int64_t last = 0;
   if (!control_sources_.accept(sequence_key(c, k.source), k.seq, &last)) {
     rejects_.recordf(RejectReason::kStaleSequence, &c.sender,
                      "control from %s source %lld: seq %lld is not above this session's last %lld",
                      c.sender.name, static_cast<long long>(k.source), static_cast<long long>(k.seq),
                      static_cast<long long>(last));
-    answer(c, Outcome::kInvalid, ReplyNote::kStaleSequence, last);
+    answer(c, k, Outcome::kInvalid, ReplyNote::kStaleSequence, last);
     return;
   }
   accepted_.fetch_add(1, std::memory_order_relaxed);
@@ -295,55 +332,55 @@ void Loop::handle_control(const Command& c) {
     case ControlKind::kPause:
     case ControlKind::kResume:
       if (lockstep) {
-        answer(c, Outcome::kNotAllowed, ReplyNote::kLockstepOnlySteps);
+        answer(c, k, Outcome::kNotAllowed, ReplyNote::kLockstepOnlySteps);
         return;
       }
       paused_ = k.kind == ControlKind::kPause;
       journal_control(k);
-      answer(c, Outcome::kOk);
+      answer(c, k, Outcome::kOk);
       return;
     case ControlKind::kStep:
       if (!paused_) {
-        answer(c, Outcome::kNotAllowed, ReplyNote::kStepNeedsPause);
+        answer(c, k, Outcome::kNotAllowed, ReplyNote::kStepNeedsPause);
       } else if (step_left_ > 0) {
-        answer(c, Outcome::kNotAllowed, ReplyNote::kStepInProgress, step_left_);
+        answer(c, k, Outcome::kNotAllowed, ReplyNote::kStepInProgress, step_left_);
       } else {
         // Answered when the last of its ticks is done (step_tick).
         step_left_ = k.steps;
         step_total_ = k.steps;
-        step_request_ = c;
+        step_bus_ = c.bus;
+        step_request_ = k;
         journal_control(k);
       }
       return;
     case ControlKind::kReset:
       journal_control(k);  // before do_reset's state at tick 0, in the journal as in the loop
       do_reset();
-      answer(c, Outcome::kOk);
+      answer(c, k, Outcome::kOk);
       return;
     case ControlKind::kSetRtf:
       if (config_.mode != Mode::kRealtime) {
-        answer(c, Outcome::kNotAllowed, ReplyNote::kRtfNeedsRealtime);
+        answer(c, k, Outcome::kNotAllowed, ReplyNote::kRtfNeedsRealtime);
         return;
       }
       rtf_ = k.rtf;
       on_schedule_ = false;  // the next tick starts a schedule with the new period
       journal_control(k);
-      answer(c, Outcome::kOk);
+      answer(c, k, Outcome::kOk);
       return;
     case ControlKind::kNone:
       break;
   }
   // The intake lets only known commands through; answer anyway rather than stay silent.
-  answer(c, Outcome::kInvalid, ReplyNote::kUnknownCommand);
+  answer(c, k, Outcome::kInvalid, ReplyNote::kUnknownCommand);
 }
 
 void Loop::do_reset() {
   if (step_left_ > 0) {
     const std::int64_t done = step_total_ - step_left_;
     step_left_ = 0;
-    output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
-                        ControlKind::kStep, Outcome::kFailed, driven_.tick(),
-                        ReplyNote::kInterruptedByReset, done});
+    output_.reply(Reply{step_bus_, step_request_.source, step_request_.seq, ControlKind::kStep,
+                        Outcome::kFailed, driven_.tick(), ReplyNote::kInterruptedByReset, done});
   }
   large_rotations_before_reset_ += driven_.world().large_rotation_steps();
   contacts_dropped_before_reset_ += driven_.world().contact_events_dropped();
@@ -377,8 +414,8 @@ void Loop::step_tick() {
   }
   if (publish) publish_state(paced);
   if (step_done) {
-    output_.reply(Reply{step_request_.bus, step_request_.control.source, step_request_.control.seq,
-                        ControlKind::kStep, Outcome::kOk, tick, ReplyNote::kNone, step_total_});
+    output_.reply(Reply{step_bus_, step_request_.source, step_request_.seq, ControlKind::kStep,
+                        Outcome::kOk, tick, ReplyNote::kNone, step_total_});
   }
 }
 
@@ -390,10 +427,9 @@ void Loop::collect_contacts(bool paced) {
   contacts_.dropped = contacts_dropped_before_reset_ + driven_.world().contact_events_dropped();
   if (config_.hash_states) {
     common::JournalEntry entry;
-    entry.kind = common::JournalEntry::Kind::kContactHash;
     entry.tick = tick;
-    entry.hash = common::contact_hash(contacts_);
-    entry.events = static_cast<std::int32_t>(contacts_.event_count());
+    entry.what = common::ContactsHash{common::contact_hash(contacts_),
+                                      static_cast<std::int32_t>(contacts_.event_count())};
     output_.journal(entry);
   }
   if (paced) {
@@ -446,9 +482,8 @@ void Loop::publish_state(bool paced) {
   }
   if (hash) {
     common::JournalEntry entry;
-    entry.kind = common::JournalEntry::Kind::kStateHash;
     entry.tick = tick;
-    entry.hash = h;
+    entry.what = common::PublishedHash{h};
     output_.journal(entry);
     hashed_tick_ = tick;
   }

@@ -1,15 +1,18 @@
 // The fixed-rate loop: the one thread that owns the physics World.
 //
-// Each tick: drain the command queue (wrenches into the wrench table, controls carried out and
-// answered), load the live wrenches into the world, run `substeps` physics steps, drop expired
-// wrenches, and hand a state to the publishers every `publish_every` ticks. Modes:
+// Each tick: drain the command queue (wrenches into the wrench table, controls and edits carried
+// out and answered), load the live wrenches into the world, run `substeps` physics steps, drop
+// expired wrenches, and hand a state to the publishers every `publish_every` ticks. Modes:
 //   realtime  ticks sleep to absolute deadlines on CLOCK_MONOTONIC (fixed_rate_schedule.hpp:
 //             overruns are counted and skipped; simulated time stays tick * dt), at a real-time
 //             factor a client can set;
 //   fast      ticks run back to back, as fast as the CPU allows;
 //   lockstep  ticks run only on step requests (for controllers that act every tick).
 // A tick in which a new wrench took effect also publishes its state, so a controller sees the
-// effect of its command one tick after it arrived instead of up to publish_every ticks later.
+// effect of its command one tick after it arrived instead of up to publish_every ticks later. An
+// edit is made between two ticks, at tick T (its answer's tick): running, the state of tick T + 1
+// is published, the first stepped from it; paused (or between lockstep steps), the edited state
+// is published at once as tick T, so that a paused world shows it.
 // Every command carried out goes to the output's journal with its tick (journal_entry.hpp), and
 // with hash_states a hash of every published state too, so that a replay can reproduce the run.
 // Paused (or in lockstep with no step requested) the loop waits on the command doorbell and
@@ -104,11 +107,12 @@ class Loop {
   double period_ns() const;  // of the wall clock between ticks, at the real-time factor
   void drain();
   void handle(const Command& c);
-  void handle_wrench(const Command& c);
-  void refuse_wrench(const Command& c, RejectReason reason, const char* detail);
-  void handle_control(const Command& c);
-  void answer(const Command& c, rigid::Outcome outcome, ReplyNote note = ReplyNote::kNone,
-              std::int64_t detail = 0);
+  void handle_wrench(const Command& c, const Wrench& w);
+  void refuse_wrench(const Command& c, const Wrench& w, RejectReason reason, const char* detail);
+  void handle_control(const Command& c, const Control& k);
+  void answer(const Command& c, const Control& k, rigid::Outcome outcome,
+              ReplyNote note = ReplyNote::kNone, std::int64_t detail = 0);
+  void handle_edit(const Command& c, const Edit& e);
   void do_reset();
   void step_tick();
   // paced: every state must reach the buses (wait_for_publishers first).
@@ -145,6 +149,7 @@ class Loop {
 
   SequenceTable wrench_sources_;
   SequenceTable control_sources_;
+  SequenceTable edit_sources_;
   rigid::StateFrame frame_;
   FixedRateSchedule schedule_;
   TickStats stats_;
@@ -156,7 +161,8 @@ class Loop {
   bool new_command_ = false;    // a wrench took effect since the last tick
   std::int64_t step_left_ = 0;  // ticks left of the running step request
   std::int64_t step_total_ = 0;
-  Command step_request_{};
+  rigid::Bus step_bus_ = rigid::Bus::kDds;  // the running step request's, for its answer
+  Control step_request_{};
   std::int64_t last_publish_ns_ = 0;
   std::int64_t first_arrival_ns_ = 0;  // of the commands not yet shown in a published state
   std::int64_t hashed_tick_ = -1;      // the last state hashed (an idle republish is not again)

@@ -185,11 +185,29 @@ void Publisher::send_replies() {
     m.message = reply_message(r);
     const transport::PublishResult result = transport_.publish(m);
     std::string line =
-        "control " + std::string(kind_name(r.kind)) + " from source " + std::to_string(r.source) +
-        " seq " + std::to_string(r.seq) + " (" + std::string(to_string(transport_.bus())) +
+        (r.kind == rigid::kReplyToEdit ? "edit " + std::string(rigid::edit_name(r.edit))
+                                       : "control " + std::string(kind_name(r.kind))) +
+        " from source " + std::to_string(r.source) + " seq " + std::to_string(r.seq) + " (" +
+        std::string(to_string(transport_.bus())) +
         "): " + std::string(rigid::outcome_name(r.outcome)) + " at tick " + std::to_string(r.tick);
     if (!m.message.empty()) line += ": " + m.message;
     if (result != transport::PublishResult::kOk) line += " (the reply could not be sent)";
+    if (r.kind == rigid::kReplyToEdit) {
+      const std::int64_t now = monotonic_ns();
+      if (now - edit_window_ns_ >= 1'000'000'000) {
+        if (edit_lines_left_out_ > 0) {
+          log_.line(std::to_string(edit_lines_left_out_) +
+                    " more edit answers in the last second, not logged");
+        }
+        edit_window_ns_ = now;
+        edit_lines_ = 0;
+        edit_lines_left_out_ = 0;
+      }
+      if (++edit_lines_ > kEditLinesPerSecond) {
+        ++edit_lines_left_out_;
+        continue;
+      }
+    }
     log_.line(line);
   }
 }

@@ -126,8 +126,14 @@ class Publisher {
   rigid::ContactEvents contact_message_;     // publisher thread: the message sent, reused
   std::atomic<std::int64_t> contacts_sent_{0};
   std::atomic<std::int64_t> contact_events_lost_{0};
-  bool logged_send_failure_ = false;       // publisher thread only
-  bool logged_contact_failure_ = false;    // publisher thread only
+  bool logged_send_failure_ = false;     // publisher thread only
+  bool logged_contact_failure_ = false;  // publisher thread only
+  // Edits' answers logged this second, and those left out (a client may edit every tick): at
+  // most kEditLinesPerSecond lines a second, then one line counting the rest. Its thread only.
+  static constexpr int kEditLinesPerSecond = 10;
+  std::int64_t edit_window_ns_ = 0;
+  int edit_lines_ = 0;
+  std::int64_t edit_lines_left_out_ = 0;
   std::atomic<int> realtime_priority_{0};  // 0: not at real-time priority
   RealtimeShare realtime_share_{kRealtimeLimit, kRealtimeResume, 1'000'000'000};  // its thread
   int priority_changes_logged_ = 0;                                               // its thread

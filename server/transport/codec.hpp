@@ -41,6 +41,7 @@ class Codec {
   std::span<const std::uint8_t> encode(const SceneDescription& message);
   std::span<const std::uint8_t> encode(const AcceptedCommand& message);
   std::span<const std::uint8_t> encode(const ContactEvents& message);
+  std::span<const std::uint8_t> encode(const EditCommand& message);
 
   // Fills `out` (reusing its storage) and returns kOk, or returns why not; `out` is then
   // unspecified but valid. Never throws or crashes on bad input.
@@ -52,6 +53,7 @@ class Codec {
   DecodeStatus decode(std::span<const std::uint8_t> bytes, SceneDescription& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, AcceptedCommand& out);
   DecodeStatus decode(std::span<const std::uint8_t> bytes, ContactEvents& out);
+  DecodeStatus decode(std::span<const std::uint8_t> bytes, EditCommand& out);
 
  private:
   std::unique_ptr<CodecBuffers<B>> buffers_;

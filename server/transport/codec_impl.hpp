@@ -45,6 +45,10 @@ template <Bus B>
 std::span<const std::uint8_t> Codec<B>::encode(const ContactEvents& message) {
   return buffers_->encode(message);
 }
+template <Bus B>
+std::span<const std::uint8_t> Codec<B>::encode(const EditCommand& message) {
+  return buffers_->encode(message);
+}
 
 template <Bus B>
 DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, StateFrame& out) {
@@ -76,6 +80,10 @@ DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, AcceptedComma
 }
 template <Bus B>
 DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, ContactEvents& out) {
+  return buffers_->decode(bytes, out);
+}
+template <Bus B>
+DecodeStatus Codec<B>::decode(std::span<const std::uint8_t> bytes, EditCommand& out) {
   return buffers_->decode(bytes, out);
 }
 

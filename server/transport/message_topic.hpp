@@ -41,11 +41,14 @@ template <>
 struct TopicOf<ContactEvents> {
   static constexpr Topic value = Topic::kContacts;
 };
+template <>
+struct TopicOf<EditCommand> {
+  static constexpr Topic value = Topic::kEdit;
+};
 
 // The server publishes everything but the commands; clients publish only the commands.
 constexpr bool publishes(Role role, Topic topic) {
-  const bool command = topic == Topic::kWrench || topic == Topic::kControl;
-  return (role == Role::kClient) == command;
+  return (role == Role::kClient) == is_command(topic);
 }
 
 }  // namespace rigid::transport

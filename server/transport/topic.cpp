@@ -6,11 +6,11 @@ namespace rigid::transport {
 namespace {
 
 constexpr std::array<std::string_view, kAllTopics.size()> kDdsNames{
-    "rigid/state", "rigid/wrench", "rigid/control",  "rigid/control_reply",
-    "rigid/stats", "rigid/scene",  "rigid/accepted", "rigid/contacts"};
+    "rigid/state", "rigid/wrench",   "rigid/control",  "rigid/control_reply", "rigid/stats",
+    "rigid/scene", "rigid/accepted", "rigid/contacts", "rigid/edit"};
 constexpr std::array<std::string_view, kAllTopics.size()> kLcmNames{
-    "RIGID_STATE", "RIGID_WRENCH", "RIGID_CONTROL",  "RIGID_CONTROL_REPLY",
-    "RIGID_STATS", "RIGID_SCENE",  "RIGID_ACCEPTED", "RIGID_CONTACTS"};
+    "RIGID_STATE", "RIGID_WRENCH",   "RIGID_CONTROL",  "RIGID_CONTROL_REPLY", "RIGID_STATS",
+    "RIGID_SCENE", "RIGID_ACCEPTED", "RIGID_CONTACTS", "RIGID_EDIT"};
 
 TopicNames join(std::string_view prefix, char separator,
                 const std::array<std::string_view, kAllTopics.size()>& names) {
@@ -29,7 +29,8 @@ TopicNames join(std::string_view prefix, char separator,
 
 std::string_view to_string(Topic topic) {
   static constexpr std::array<std::string_view, kAllTopics.size()> kNames{
-      "state", "wrench", "control", "control_reply", "stats", "scene", "accepted", "contacts"};
+      "state", "wrench",   "control",  "control_reply", "stats",
+      "scene", "accepted", "contacts", "edit"};
   return kNames.at(index_of(topic));
 }
 

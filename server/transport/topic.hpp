@@ -20,12 +20,18 @@ enum class Topic : std::uint8_t {
   kScene,
   kAccepted,
   kContacts,
+  kEdit,
 };
 
-inline constexpr std::array<Topic, 8> kAllTopics{
-    Topic::kState, Topic::kWrench, Topic::kControl,  Topic::kControlReply,
-    Topic::kStats, Topic::kScene,  Topic::kAccepted, Topic::kContacts,
+inline constexpr std::array<Topic, 9> kAllTopics{
+    Topic::kState, Topic::kWrench,   Topic::kControl,  Topic::kControlReply, Topic::kStats,
+    Topic::kScene, Topic::kAccepted, Topic::kContacts, Topic::kEdit,
 };
+
+// The topics clients send on and the server reads.
+constexpr bool is_command(Topic topic) {
+  return topic == Topic::kWrench || topic == Topic::kControl || topic == Topic::kEdit;
+}
 
 inline constexpr std::size_t index_of(Topic topic) {
   return static_cast<std::size_t>(topic);

@@ -24,8 +24,8 @@ struct Origin {
   // the sender's UDP address and port (one per lcm_t). A restarted client is a new session.
   std::uint64_t session = 0;
   // With DDS Security: the authenticated identity that wrote the command, taken from the writer's
-  // partition (push/IDENTITY/BODY, control/IDENTITY), which access control lets only that
-  // identity use. Empty without security.
+  // partition (push/IDENTITY/BODY, control/IDENTITY: controls and edits), which access control
+  // lets only that identity use. Empty without security.
   std::string_view identity;
   // With DDS Security, for a wrench: the one body its writer's partition permits. Empty otherwise.
   std::string_view permitted_body;
@@ -42,6 +42,7 @@ class Receiver {
   // Server role.
   virtual void on_wrench(const WrenchCommand& /*wrench*/, const Origin& /*origin*/) {}
   virtual void on_control(const ControlCommand& /*control*/, const Origin& /*origin*/) {}
+  virtual void on_edit(const EditCommand& /*edit*/, const Origin& /*origin*/) {}
   // Client role.
   virtual void on_state(const StateFrame& /*state*/) {}
   virtual void on_stats(const StatsReport& /*stats*/) {}
@@ -99,6 +100,8 @@ class Transport {
   // Client role.
   virtual PublishResult publish(const WrenchCommand& wrench) = 0;
   virtual PublishResult publish(const ControlCommand& control) = 0;
+  // Not pure, so that a stand-in transport need not carry this topic: it then refuses.
+  virtual PublishResult publish(const EditCommand& /*edit*/) { return PublishResult::kWrongRole; }
 
   // Messages sent and received by this transport since it started (the Stats per-bus figures).
   virtual TransportCounts counts() const = 0;

@@ -101,7 +101,7 @@ class Encoder {
   void operator()(const P& in, W& out) {
     if constexpr (std::is_enum_v<P> || std::is_arithmetic_v<P>) {
       out = static_cast<W>(in);
-    } else if constexpr (Is<P, Vec3>) {
+    } else if constexpr (Is<P, Vec3> || Is<P, std::array<double, 4>>) {
       std::copy(in.begin(), in.end(), std::begin(out));
     } else if constexpr (Is<P, std::string> && std::is_array_v<W>) {
       ok = put_string(in, out) && ok;
@@ -163,7 +163,7 @@ class Decoder {
   void operator()(P& out, const W& in) {
     if constexpr (std::is_enum_v<P> || std::is_arithmetic_v<P>) {
       out = static_cast<P>(in);
-    } else if constexpr (Is<P, Vec3>) {
+    } else if constexpr (Is<P, Vec3> || Is<P, std::array<double, 4>>) {
       std::copy(std::begin(in), std::end(in), out.begin());
     } else if constexpr (Is<P, std::string> && std::is_array_v<W>) {
       out.assign(in, strnlen(in, std::extent_v<W>));
@@ -234,6 +234,17 @@ void wrench_fields(IO& io, P& m, W& w) {
   io(m.ttl, w.ttl);
 }
 
+template <class IO, class P, class W>
+void state_edit_fields(IO& io, P& m, W& w) {
+  io(m.set, w.set);
+  io(m.position, w.position);
+  io(m.orientation, w.orientation);
+  io(m.linear_velocity, w.linear_velocity);
+  io(m.velocity_frame, w.velocity_frame);
+  io(m.angular_velocity, w.angular_velocity);
+  io(m.angular_velocity_frame, w.angular_velocity_frame);
+}
+
 template <class IO, Is<StateFrame> P, class W>
 void fields(IO& io, P& m, W& w, std::size_t n) {
   io(m.tick, w.tick);
@@ -264,6 +275,17 @@ void fields(IO& io, P& m, W& w, std::size_t /*n*/) {
   io(m.command, w.command);
   io(m.steps, w.steps);
   io(m.rtf, w.rtf);
+}
+
+template <class IO, Is<EditCommand> P, class W>
+void fields(IO& io, P& m, W& w, std::size_t /*n*/) {
+  io(m.source, w.source);
+  io(m.seq, w.seq);
+  io(m.kind, w.kind);
+  io(m.body_id, w.body_id);
+  io(m.body_name, w.body_name);
+  state_edit_fields(io, m, w);
+  io(m.stamp_ns, w.stamp_ns);
 }
 
 template <class IO, Is<ControlReply> P, class W>
@@ -383,6 +405,8 @@ void fields(IO& io, P& m, W& w, std::size_t /*n*/) {
   io(m.command, w.command);
   io(m.steps, w.steps);
   io(m.rtf, w.rtf);
+  io(m.edit, w.edit);
+  state_edit_fields(io, m, w);
   io(m.stamp_ns, w.stamp_ns);
 }
 

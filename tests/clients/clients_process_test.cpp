@@ -103,8 +103,9 @@ std::int64_t tick_in(const std::string& text) {
 }
 
 using Values = std::array<double, 13>;
-// CSV rows (rigid-sim's columns) by time, then body.
-using Rows = std::map<double, std::map<std::string, Values>>;
+// CSV rows (rigid-sim's columns) by time, then body; a time written again (the state of a paused
+// tick published again after an edit) holds each of its states, in order.
+using Rows = std::map<double, std::vector<std::map<std::string, Values>>>;
 
 Rows read_csv(const std::string& path) {
   Rows rows;
@@ -122,13 +123,16 @@ Rows read_csv(const std::string& path) {
     Values v{};
     for (std::size_t i = 0; i < 13; ++i)
       std::from_chars(f[i + 2].data(), f[i + 2].data() + f[i + 2].size(), v[i]);
-    rows[t][f[1]] = v;
+    std::vector<std::map<std::string, Values>>& at = rows[t];
+    if (at.empty() || at.back().contains(f[1])) at.emplace_back();
+    at.back()[f[1]] = v;
   }
   return rows;
 }
 
-// How many of the states a subscriber saw the CSV holds, checking that each equals it exactly
-// (17 significant digits carry a double exactly). `names` by body index.
+// How many of the states a subscriber saw the CSV holds, checking that each equals one of the
+// CSV's states at its time exactly (17 significant digits carry a double exactly). `names` by body
+// index.
 int expect_rows_match(const Rows& rows, const std::vector<TimedState>& seen,
                       const std::vector<std::string>& names) {
   int matched = 0;
@@ -136,23 +140,31 @@ int expect_rows_match(const Rows& rows, const std::vector<TimedState>& seen,
     const auto at = rows.find(s.state.sim_time);
     if (at == rows.end()) continue;
     ++matched;
-    for (std::size_t i = 0; i < s.state.body_count(); ++i) {
-      const auto body = at->second.find(names[i]);
-      if (body == at->second.end()) {
-        ADD_FAILURE() << "no row for " << names[i] << " at t = " << s.state.sim_time;
-        return matched;
+    std::string why;
+    const auto same = [&](const std::map<std::string, Values>& written) {
+      for (std::size_t i = 0; i < s.state.body_count(); ++i) {
+        const auto body = written.find(names[i]);
+        if (body == written.end()) {
+          why = "no row for " + names[i] + " at t = " + std::to_string(s.state.sim_time);
+          return false;
+        }
+        const double* p = &s.state.position[3 * i];
+        const double* q = &s.state.orientation[4 * i];
+        const double* lv = &s.state.linear_velocity[3 * i];
+        const double* w = &s.state.angular_velocity[3 * i];
+        const Values expected{p[0],  p[1],  p[2],  q[0], q[1], q[2], q[3],
+                              lv[0], lv[1], lv[2], w[0], w[1], w[2]};
+        if (body->second != expected) {
+          why =
+              names[i] + " at tick " + std::to_string(s.state.tick) + " differs from what was seen";
+          return false;
+        }
       }
-      const Values& v = body->second;
-      const double* p = &s.state.position[3 * i];
-      const double* q = &s.state.orientation[4 * i];
-      const double* lv = &s.state.linear_velocity[3 * i];
-      const double* w = &s.state.angular_velocity[3 * i];
-      const Values expected{p[0],  p[1],  p[2],  q[0], q[1], q[2], q[3],
-                            lv[0], lv[1], lv[2], w[0], w[1], w[2]};
-      if (v != expected) {
-        ADD_FAILURE() << names[i] << " at tick " << s.state.tick << " differs from what was seen";
-        return matched;
-      }
+      return true;
+    };
+    if (std::none_of(at->second.begin(), at->second.end(), same)) {
+      ADD_FAILURE() << why;
+      return matched;
     }
   }
   return matched;
@@ -218,6 +230,62 @@ TEST_P(Rigidctl, ControlsRoundTripAndEachIsAnswered) {
   EXPECT_NE(echo.out.find(",puck,"), std::string::npos) << echo.out;
   // Each request reached rigidd once: no duplicate was refused as stale.
   EXPECT_EQ(s.daemon_log().find("stale"), std::string::npos) << s.daemon_log();
+  EXPECT_EQ(s.stop(), 0);
+}
+
+// rigidctl set and reset BODY: answered with their tick, the edited state published at once while
+// paused and stepped from by the next tick; what the command line alone shows is refused there.
+TEST_P(Rigidctl, SetAndResetABodyAreAnsweredWithTheirTick) {
+  Session s(GetParam(), kProbe);
+  ASSERT_TRUE(s.wait_ready()) << s.daemon_log();
+  const auto ok = [&](const std::vector<std::string>& args) {
+    const Completed r = s.run(RIGIDCTL_EXE, args);
+    EXPECT_EQ(r.exit_code, 0) << args[0] << ": " << r.err << "\nrigidd:\n" << s.daemon_log();
+    return r;
+  };
+  const std::int64_t at = tick_in(ok({"pause"}).out);
+  const Completed set =
+      ok({"set", "puck", "--position", "3,2,1", "--velocity", "0.5,0,0", "--rpy", "0,0,90"});
+  EXPECT_EQ(set.out, "set: ok at tick " + std::to_string(at) + " on puck (id 1)\n");
+  // Paused: the edited state is published at once, as that tick.
+  const auto edited_state = [&](std::int64_t tick, double x) {
+    return s.client_->wait(
+        [&] {
+          for (const TimedState& t : s.client_->states_locked())
+            if (t.state.tick == tick && t.state.position[3] == x) return true;
+          return false;
+        },
+        5s);
+  };
+  EXPECT_TRUE(edited_state(at, 3.0)) << "no state with the puck at x = 3 at tick " << at;
+  // The next tick steps from it: 0.5 m/s for one tick of 1 ms, no force, no gravity.
+  EXPECT_EQ(tick_in(ok({"step", "1"}).out), at + 1);
+  EXPECT_TRUE(edited_state(at + 1, 3.0 + 0.5e-3));
+  // The body frame: B's x is W's y after a 90 degree turn about z (the brick's own orientation
+  // is kept when none is given; here the puck's, just set).
+  ok({"set", "puck", "--velocity", "1,0,0", "--frame", "body"});
+  ASSERT_TRUE(s.client_->wait(
+      [&] {
+        const auto& v = s.client_->states_locked().back().state.linear_velocity;
+        return std::abs(v[3 + 1] - 1.0) < 1e-12 && std::abs(v[3]) < 1e-12;
+      },
+      5s));
+  // reset BODY: the puck alone back at its scene state (x = 1, at rest); the tick goes on.
+  const Completed reset = ok({"reset", "puck"});
+  EXPECT_EQ(reset.out, "reset: ok at tick " + std::to_string(at + 1) + " on puck (id 1)\n");
+  EXPECT_TRUE(edited_state(at + 1, 1.0));
+  EXPECT_EQ(s.client_->last_state()->state.linear_velocity[3 + 1], 0.0);
+
+  // Refused before sending (exit 2): no such body, a quaternion that is not one, nothing to set.
+  const Completed unknown = s.run(RIGIDCTL_EXE, {"set", "comet", "--position", "0,0,0"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.err.rfind("rigidctl: set: no body 'comet' in the scene (bodies: ", 0), 0u)
+      << unknown.err;
+  const Completed bad_q = s.run(RIGIDCTL_EXE, {"set", "puck", "--orientation", "1,1,0,0"});
+  EXPECT_EQ(bad_q.exit_code, 2);
+  EXPECT_NE(bad_q.err.find("--orientation: expected a unit quaternion"), std::string::npos)
+      << bad_q.err;
+  EXPECT_EQ(s.run(RIGIDCTL_EXE, {"set", "puck"}).exit_code, 2);
   EXPECT_EQ(s.stop(), 0);
 }
 
@@ -828,7 +896,7 @@ TEST_P(RecordContacts, EveryTicksContactEventsAreRecordedAsPublishedAndExported)
 
 INSTANTIATE_TEST_SUITE_P(Bus, RecordContacts, ::testing::Values(Bus::kDds, Bus::kLcm), param_name);
 
-TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
+TEST(Journal, TheReplayOfALiveRunWithRandomPushesAndEditsIsBitIdentical) {
   TestDir dir;
   const std::string journal = dir.file("run.journal");
   Session s(Bus::kDds, kDefault, {"--journal", journal});
@@ -839,11 +907,30 @@ TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
   ASSERT_TRUE(s.client_->handshake(harmless, 10s)) << s.daemon_log();
 
   // Random wrenches on random bodies: world and body frames, off-centre points, pure torques,
-  // lifetimes from one tick to a fifth of a second; a pause with steps in the middle.
+  // lifetimes from one tick to a fifth of a second; a pause with steps in the middle. Among them
+  // edits: every tenth command a random part of a body's state set (world or body frame) or a
+  // body reset, and one while paused.
   std::mt19937_64 random(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  int sent = 0;
+  int sent = 0, edits = 0;
+  const auto edit = [&] {
+    rigid::EditCommand e;
+    e.body_id = static_cast<std::int32_t>(random() % 5);
+    e.kind = random() % 3 == 0 ? rigid::EditKind::kResetBody : rigid::EditKind::kSetState;
+    e.set = static_cast<std::int32_t>(1 + random() % 15);
+    e.position = {unit(random), unit(random), 2 + unit(random)};
+    e.orientation = {0.5, 0.5, unit(random) > 0 ? 0.5 : -0.5, 0.5};
+    e.linear_velocity = {unit(random), unit(random), unit(random)};
+    e.velocity_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
+    e.angular_velocity = {4 * unit(random), 4 * unit(random), 4 * unit(random)};
+    e.angular_velocity_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
+    const auto reply = s.client_->request(e, 5s);
+    ASSERT_TRUE(reply) << s.daemon_log();
+    ASSERT_EQ(reply->outcome, rigid::Outcome::kOk) << reply->message;
+    ++edits;
+  };
   for (int i = 0; i < 150; ++i) {
+    if (i % 10 == 5) edit();
     rigid::WrenchCommand w;
     w.body_id = static_cast<std::int32_t>(random() % 5);
     w.key = static_cast<std::int32_t>(random() % 2);
@@ -858,6 +945,7 @@ TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
       rigid::ControlCommand c;
       c.command = rigid::ControlKind::kPause;
       ASSERT_TRUE(s.client_->request(c, 5s));
+      edit();
       c.command = rigid::ControlKind::kStep;
       c.steps = 20;
       ASSERT_TRUE(s.client_->request(c, 5s));
@@ -877,6 +965,7 @@ TEST(Journal, TheReplayOfALiveRunWithRandomPushesIsBitIdentical) {
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find(std::to_string(sent) + " wrenches"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(std::to_string(edits) + " edits"), std::string::npos) << r.out;
   // And the states themselves: what the subscriber saw live is what the replay computed.
   const Rows rows = read_csv(csv);
   EXPECT_GE(expect_rows_match(rows, s.client_->states(), kDefaultBodies), 100);

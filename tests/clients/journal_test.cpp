@@ -1,5 +1,6 @@
 // The journal in one process, without a network: a Loop in fast mode journals a stream of random
-// wrenches and controls (resets among them) through a real Journal into a file, allocating
+// wrenches, controls (resets among them) and edits (set_state of random parts in random frames,
+// running and paused, and reset_body) through a real Journal into a file, allocating
 // nothing on the loop thread while it does; rigid-sim's replay of that file reproduces every
 // journaled state bit for bit. Then the failure reports: a changed command is a divergence with
 // its tick (exit 3), a gap stops the replay (exit 4), a damaged tail is replayed up to the damage.
@@ -17,6 +18,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -106,7 +108,7 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
 
   std::mt19937_64 random(20240611);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  std::int64_t seq = 1, control_seq = 1;
+  std::int64_t seq = 1, control_seq = 1, edit_seq = 1;
   const auto push = [&](const Command& c) {
     if (queue.try_push(c)) doorbell.ring();
   };
@@ -114,7 +116,7 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
   for (int round = 0; std::chrono::steady_clock::now() < end; ++round) {
     for (int i = 0; i < 6; ++i, ++seq) {
       Command c;
-      Wrench& w = c.wrench;
+      Wrench w;
       w.source = static_cast<std::int64_t>(random() % 4);
       w.seq = seq;
       w.body = static_cast<std::int32_t>(random() % 5);
@@ -125,19 +127,53 @@ Journaled journal_a_run(const std::string& path, std::chrono::milliseconds run_f
       if (random() % 3 == 0) w.torque = {unit(random), unit(random), unit(random)};
       w.torque_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
       w.ttl = 0.05 * static_cast<double>(random() % 4);
+      c.what = w;
+      push(c);
+    }
+    if (round % 5 == 2) {
+      // An edit: a random part of a random body's state, or a body reset.
+      Edit e;
+      e.source = 11;
+      e.seq = edit_seq++;
+      e.body = static_cast<std::int32_t>(random() % 5);
+      if (random() % 4 == 0) {
+        e.kind = rigid::EditKind::kResetBody;
+      } else {
+        e.kind = rigid::EditKind::kSetState;
+        e.set = static_cast<std::int32_t>(1 + random() % 15);
+        e.position = {unit(random), unit(random), 1 + unit(random)};
+        const double n = std::sqrt(4.0);
+        e.orientation = {1 / n, unit(random) > 0 ? 1 / n : -1 / n, 1 / n, 1 / n};
+        e.linear_velocity = {unit(random), unit(random), unit(random)};
+        e.velocity_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
+        e.angular_velocity = {3 * unit(random), 3 * unit(random), 3 * unit(random)};
+        e.angular_velocity_frame = random() % 2 ? rigid::Frame::kBody : rigid::Frame::kWorld;
+      }
+      Command c;
+      c.what = e;
       push(c);
     }
     Command control;
-    control.kind = Command::Kind::kControl;
     if (round % 40 == 39) {
-      control.control = Control{9, control_seq++, ControlKind::kReset, 0, 0};
+      control.what = Control{9, control_seq++, ControlKind::kReset, 0, 0};
       push(control);
     } else if (round % 40 == 20) {
-      control.control = Control{9, control_seq++, ControlKind::kPause, 0, 0};
+      control.what = Control{9, control_seq++, ControlKind::kPause, 0, 0};
       push(control);
-      control.control = Control{9, control_seq++, ControlKind::kStep, 25, 0};
+      // Paused: the edited state is published (and hashed) at once, at the paused tick.
+      Edit paused;
+      paused.source = 11;
+      paused.seq = edit_seq++;
+      paused.kind = rigid::EditKind::kSetState;
+      paused.body = 3;
+      paused.set = rigid::kSetAngularVelocity;
+      paused.angular_velocity = {0.5, -1, 2};
+      Command c;
+      c.what = paused;
+      push(c);
+      control.what = Control{9, control_seq++, ControlKind::kStep, 25, 0};
       push(control);
-      control.control = Control{9, control_seq++, ControlKind::kResume, 0, 0};
+      control.what = Control{9, control_seq++, ControlKind::kResume, 0, 0};
       push(control);
     }
     std::this_thread::sleep_for(1ms);
@@ -214,14 +250,15 @@ TEST_F(JournalReplay, TheReplayReproducesEveryJournaledStateBitForBit) {
   EXPECT_GT(r.hashes_compared, 1000);
   EXPECT_GT(r.wrenches, 500);
   EXPECT_GE(r.resets, 2);
-  EXPECT_EQ(r.wrenches + r.controls, run_.published);
+  EXPECT_GT(r.edits, 20);  // one every fifth round (the rounds a loaded host runs vary)
+  EXPECT_EQ(r.wrenches + r.controls + r.edits, run_.published);
 }
 
 TEST_F(JournalReplay, AChangedCommandIsADivergenceAtTheFirstStateItReaches) {
   std::vector<msgs::LogRecord> records = read_all(path_);
   // A wrench from the middle on that acts: neither replaced (same source, body, key) nor undone by
-  // a reset before the next state. The first state hash after it is then the first to differ
-  // (the loop publishes after every tick in which a wrench took effect).
+  // a reset or an edit before the next state. The first state hash after it is then the first to
+  // differ (the loop publishes after every tick in which a wrench took effect).
   const auto same_key = [](const msgs::CommandRecord& a, const msgs::CommandRecord& b) {
     return b.kind() == msgs::CommandRecord::WRENCH && a.source() == b.source() &&
            a.body_id() == b.body_id() && a.key() == b.key();
@@ -241,7 +278,8 @@ TEST_F(JournalReplay, AChangedCommandIsADivergenceAtTheFirstStateItReaches) {
       }
       if (records[i].has_command() &&
           (same_key(r.command(), records[i].command()) ||
-           records[i].command().kind() == msgs::CommandRecord::CONTROL)) {
+           records[i].command().kind() == msgs::CommandRecord::CONTROL ||
+           records[i].command().kind() == msgs::CommandRecord::EDIT)) {
         break;
       }
     }
@@ -377,7 +415,7 @@ std::vector<rigid::ContactEvents> journal_a_contact_run(const std::string& path)
   };
   for (int round = 0; round < 60; ++round) {
     Command c;
-    Wrench& w = c.wrench;
+    Wrench& w = c.what.emplace<Wrench>();
     w.source = 1;
     w.seq = seq++;
     w.body = static_cast<std::int32_t>(random() % 5);
@@ -387,10 +425,8 @@ std::vector<rigid::ContactEvents> journal_a_contact_run(const std::string& path)
     w.ttl = 0.002 * static_cast<double>(random() % 40);
     push(c);
     Command control;
-    control.kind = Command::Kind::kControl;
-    control.control =
-        Control{9, control_seq++, round == 30 ? ControlKind::kReset : ControlKind::kStep,
-                static_cast<std::int64_t>(20 + random() % 60), 0};
+    control.what = Control{9, control_seq++, round == 30 ? ControlKind::kReset : ControlKind::kStep,
+                           static_cast<std::int64_t>(20 + random() % 60), 0};
     push(control);
     // Steps run one request at a time: wait for this one's reply (the run is then the same every
     // time: each wrench acts from the tick after the previous step's last).

@@ -1,7 +1,7 @@
 // The promises loop/command_validation.hpp makes to the loop, checked on every command a fuzzer
 // makes (fuzz_lcm_messages, fuzz_dds_messages, fuzz_command_validation): a command the validator
-// accepts is finite, names a body of the scene, and is within every limit; a refusal says why on
-// one printable line.
+// accepts is finite, names a body of the scene, and is within every limit (an edit's orientation
+// of unit length); a refusal says why on one printable line.
 #pragma once
 
 #include <algorithm>
@@ -76,6 +76,45 @@ class CommandContract {
     }
     require(v.source == m.source && v.seq == m.seq && v.kind == m.command && v.steps == m.steps,
             "an accepted control reaches the loop unchanged");
+  }
+
+  void check(const rigid::EditCommand& m) const {
+    using K = rigid::EditKind;
+    const loop::Checked<loop::Edit> c = validator_.check(m);
+    if (!c.ok) {
+      require(!c.detail.empty() && one_printable_line(c.detail), "a refusal says why on one line");
+      return;
+    }
+    const loop::Edit& v = c.value;
+    require(v.kind == K::kSetState || v.kind == K::kResetBody, "an accepted edit is a known kind");
+    require(v.body >= 0 && v.body < bodies_.size(), "an accepted edit names a body of the scene");
+    require(m.body_id >= 0 ? v.body == m.body_id : bodies_.name(v.body) == m.body_name,
+            "an accepted edit acts on the body it was sent for");
+    require(v.source == m.source && v.seq == m.seq && v.kind == m.kind && v.stamp_ns == m.stamp_ns,
+            "an accepted edit reaches the loop unchanged");
+    if (v.kind == K::kResetBody) {
+      require(v.set == 0, "an accepted reset carries no state");
+      return;
+    }
+    require(v.set != 0 && (v.set & ~rigid::kSetAll) == 0 && v.set == m.set,
+            "an accepted set_state sets known parts, as sent");
+    const auto& q = v.orientation;
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    // Written so that NaN fails them.
+    require(finite(v.position) && finite(v.linear_velocity) && finite(v.angular_velocity) &&
+                std::abs(n - 1.0) <= loop::CommandValidator::kOrientationTolerance,
+            "an accepted set_state is finite, its orientation a unit quaternion");
+    require(known(v.velocity_frame) && known(v.angular_velocity_frame),
+            "an accepted set_state has known frames");
+    const auto sets = [&](std::int32_t part) { return (m.set & part) != 0; };
+    require((!sets(rigid::kSetPosition) || v.position == m.position) &&
+                (!sets(rigid::kSetOrientation) || v.orientation == m.orientation) &&
+                (!sets(rigid::kSetLinearVelocity) || (v.linear_velocity == m.linear_velocity &&
+                                                      v.velocity_frame == m.velocity_frame)) &&
+                (!sets(rigid::kSetAngularVelocity) ||
+                 (v.angular_velocity == m.angular_velocity &&
+                  v.angular_velocity_frame == m.angular_velocity_frame)),
+            "the parts an accepted set_state sets reach the loop unchanged");
   }
 
  private:

@@ -1,8 +1,9 @@
-// libFuzzer target: the server's command validation (loop/command_validation.hpp) on wrenches and
-// controls whose every field the input sets through FuzzedDataProvider, with numbers drawn mostly
-// from the edges (zeros, infinities, NaN, the largest and smallest doubles, the limits and just
-// past them). The bus fuzzers reach the validator through encoded messages, where a byte-wise
-// mutation seldom makes such numbers in several fields at once. Checks command_contract.hpp.
+// libFuzzer target: the server's command validation (loop/command_validation.hpp) on wrenches,
+// controls and edits whose every field the input sets through FuzzedDataProvider, with numbers
+// drawn mostly from the edges (zeros, infinities, NaN, the largest and smallest doubles, the limits
+// and just past them). The bus fuzzers reach the validator through encoded messages, where a
+// byte-wise mutation seldom makes such numbers in several fields at once. Checks
+// command_contract.hpp.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <bit>
@@ -116,6 +117,37 @@ rigid::ControlCommand make_control(FuzzedDataProvider& in) {
   return c;
 }
 
+rigid::EditCommand make_edit(FuzzedDataProvider& in) {
+  rigid::EditCommand e;
+  e.source = in.ConsumeIntegral<std::int64_t>();
+  e.seq = in.ConsumeIntegral<std::int64_t>();
+  e.kind = pick_enum<rigid::EditKind>(in, 3);
+  e.body_id = in.ConsumeBool() ? in.ConsumeIntegralInRange<std::int32_t>(-2, 5)
+                               : in.ConsumeIntegral<std::int32_t>();
+  static const std::vector<std::string> kNames = fuzz::CommandContract::body_names();
+  if (e.body_id < 0) {
+    e.body_name = in.ConsumeBool()
+                      ? kNames[in.ConsumeIntegralInRange<std::size_t>(0, kNames.size() - 1)]
+                      : in.ConsumeRandomLengthString(140);
+  }
+  e.set = in.ConsumeBool() ? in.ConsumeIntegralInRange<std::int32_t>(0, 16)
+                           : in.ConsumeIntegral<std::int32_t>();
+  e.position = pick_vec3(in);
+  if (in.ConsumeBool()) {
+    // Near unit length, on both sides of the tolerance.
+    const double scale = 1.0 + (in.ConsumeProbability<double>() - 0.5) * 4e-3;
+    e.orientation = {0.5 * scale, 0.5 * scale, -0.5 * scale, 0.5 * scale};
+  } else {
+    e.orientation = {pick_double(in), pick_double(in), pick_double(in), pick_double(in)};
+  }
+  e.linear_velocity = pick_vec3(in);
+  e.velocity_frame = pick_enum<rigid::Frame>(in, 1);
+  e.angular_velocity = pick_vec3(in);
+  e.angular_velocity_frame = pick_enum<rigid::Frame>(in, 1);
+  e.stamp_ns = in.ConsumeIntegral<std::int64_t>();
+  return e;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -123,10 +155,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FuzzedDataProvider in(data, size);
   // Several commands per input, of either kind.
   while (in.remaining_bytes() > 0) {
-    if (in.ConsumeBool()) {
-      contract.check(make_wrench(in));
-    } else {
-      contract.check(make_control(in));
+    switch (in.ConsumeIntegralInRange(0, 2)) {
+      case 0:
+        contract.check(make_wrench(in));
+        break;
+      case 1:
+        contract.check(make_control(in));
+        break;
+      default:
+        contract.check(make_edit(in));
+        break;
     }
   }
   return 0;

@@ -33,6 +33,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   rigid::ControlCommand control;
   if (fuzz::decode_checked(f.codec, bytes, control)) f.contract.check(control);
 
+  rigid::EditCommand edit;
+  if (fuzz::decode_checked(f.codec, bytes, edit)) f.contract.check(edit);
+
   // The types clients receive (rigidctl, rigid-record, rigid-view, controllers).
   rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);

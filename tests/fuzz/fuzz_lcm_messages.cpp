@@ -43,6 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   "lcm-gen's decoder and our layout check agree on Control");
   }
 
+  rigid::EditCommand edit;
+  if (fuzz::decode_checked(f.codec, bytes, edit)) f.contract.check(edit);
+
   // The types clients receive (rigidctl, rigid-record, rigid-view, controllers).
   rigid::StateFrame state;
   fuzz::decode_checked(f.codec, bytes, state);

@@ -186,6 +186,45 @@ rigid::AcceptedCommand accepted_control() {
   return a;
 }
 
+rigid::EditCommand edit_set_state() {
+  rigid::EditCommand e;
+  e.source = 42;
+  e.seq = 9;
+  e.kind = rigid::EditKind::kSetState;
+  e.body_id = -1;
+  e.body_name = "tumbler";
+  e.set = rigid::kSetPosition | rigid::kSetOrientation | rigid::kSetAngularVelocity;
+  e.position = {1.0, -2.0, 0.5};
+  e.orientation = {0.5, 0.5, -0.5, 0.5};
+  e.angular_velocity = {0.0, 0.0, 3.0};
+  e.angular_velocity_frame = rigid::Frame::kBody;
+  e.stamp_ns = 1'700'000'000'000'000'000;
+  return e;
+}
+
+rigid::EditCommand edit_reset_body() {
+  rigid::EditCommand e;
+  e.source = 42;
+  e.seq = 10;
+  e.kind = rigid::EditKind::kResetBody;
+  e.body_id = 2;
+  return e;
+}
+
+rigid::AcceptedCommand accepted_edit() {
+  const rigid::EditCommand e = edit_set_state();
+  rigid::AcceptedCommand a;
+  a.tick = 1030;
+  a.kind = rigid::AcceptedKind::kEdit;
+  a.source = e.source;
+  a.seq = e.seq;
+  a.body_id = 0;
+  a.edit = e.kind;
+  a.state_edit() = e.state_edit();
+  a.stamp_ns = e.stamp_ns;
+  return a;
+}
+
 // The same messages through one bus's codec (lcm::Codec or dds::CdrCodec).
 template <class Codec>
 void write_messages(const fs::path& dir) {
@@ -203,6 +242,9 @@ void write_messages(const fs::path& dir) {
   write(dir / "accepted_wrench", codec.encode(accepted_wrench()));
   write(dir / "accepted_control", codec.encode(accepted_control()));
   write(dir / "contacts", codec.encode(contacts()));
+  write(dir / "edit_set_state", codec.encode(edit_set_state()));
+  write(dir / "edit_reset_body", codec.encode(edit_reset_body()));
+  write(dir / "accepted_edit", codec.encode(accepted_edit()));
 }
 
 // One record of each kind, in the order a recording or a journal holds them.
@@ -236,6 +278,9 @@ std::vector<msgs::LogRecord> records() {
   common::to_record(accepted_control(), 5'000'000, *r.mutable_command());
   out.push_back(r);
   r.Clear();
+  common::to_record(accepted_edit(), 5'500'000, *r.mutable_command());
+  out.push_back(r);
+  r.Clear();
   common::to_record(contacts(), 6'000'000, *r.mutable_contacts());
   out.push_back(r);
   r.Clear();
@@ -264,9 +309,9 @@ std::string read_all(const fs::path& path) {
 
 void write_logs(const fs::path& dir) {
   const std::vector<msgs::LogRecord> all = records();
-  static constexpr const char* kNames[] = {"header",     "scene",   "state",    "stats",
-                                           "wrench",     "control", "contacts", "contact_hash",
-                                           "state_hash", "gap",     "end"};
+  static constexpr const char* kNames[] = {"header",       "scene",      "state", "stats",
+                                           "wrench",       "control",    "edit",  "contacts",
+                                           "contact_hash", "state_hash", "gap",   "end"};
   for (std::size_t i = 0; i < all.size(); ++i) {
     write(dir / "log_record" / kNames[i], all[i].SerializeAsString());
   }

@@ -182,6 +182,119 @@ TEST_F(Validation, Controls) {
   EXPECT_FALSE(validator_.check(c, &note).ok);
 }
 
+rigid::EditCommand good_edit() {
+  rigid::EditCommand e;
+  e.source = 7;
+  e.seq = 3;
+  e.kind = rigid::EditKind::kSetState;
+  e.body_id = -1;
+  e.body_name = "arm/link.1";
+  e.set = rigid::kSetAll;
+  e.position = {1, 2, 3};
+  e.orientation = {0.5, 0.5, -0.5, 0.5};
+  e.linear_velocity = {0, 0, 1};
+  e.velocity_frame = rigid::Frame::kBody;
+  e.angular_velocity = {0, 2, 0};
+  e.stamp_ns = 99;
+  return e;
+}
+
+TEST_F(Validation, AGoodEditPassesWithWhatItSets) {
+  Checked<Edit> c = validator_.check(good_edit());
+  ASSERT_TRUE(c.ok) << c.detail;
+  EXPECT_EQ(c.value.body, 2);
+  EXPECT_EQ(c.value.kind, rigid::EditKind::kSetState);
+  EXPECT_EQ(c.value.state_edit(), good_edit().state_edit());
+  EXPECT_EQ(c.value.source, 7);
+  EXPECT_EQ(c.value.seq, 3);
+  EXPECT_EQ(c.value.stamp_ns, 99);
+
+  // Only the parts set travel on; those not set are not looked at (a NaN there passes).
+  rigid::EditCommand p = good_edit();
+  p.set = rigid::kSetPosition;
+  p.linear_velocity = {kNaN, 0, 0};
+  p.orientation = {0, 0, 0, 0};
+  p.velocity_frame = static_cast<rigid::Frame>(9);
+  c = validator_.check(p);
+  ASSERT_TRUE(c.ok) << c.detail;
+  EXPECT_EQ(c.value.position, p.position);
+  EXPECT_EQ(c.value.linear_velocity, (rigid::Vec3{}));
+  EXPECT_EQ(c.value.orientation, (rigid::StateEdit{}.orientation));
+
+  // A reset names a body and nothing else.
+  rigid::EditCommand r = good_edit();
+  r.kind = rigid::EditKind::kResetBody;
+  r.body_id = 0;
+  r.position = {kInf, 0, 0};
+  c = validator_.check(r);
+  ASSERT_TRUE(c.ok) << c.detail;
+  EXPECT_EQ(c.value.body, 0);
+  EXPECT_EQ(c.value.set, 0);
+  // A quaternion typed with four decimals is within the tolerance.
+  rigid::EditCommand typed = good_edit();
+  typed.orientation = {0.7071, 0, 0, 0.7071};
+  EXPECT_TRUE(validator_.check(typed).ok);
+}
+
+TEST_F(Validation, EditRefusals) {
+  const auto refused = [&](const rigid::EditCommand& e) {
+    const Checked<Edit> c = validator_.check(e);
+    EXPECT_FALSE(c.ok);
+    EXPECT_NE(c.detail.find("edit from source 7 seq 3: "), std::string::npos) << c.detail;
+    return c.reason;
+  };
+  rigid::EditCommand e = good_edit();
+  e.kind = rigid::EditKind::kNone;
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e.kind = static_cast<rigid::EditKind>(3);  // spawn is not (yet) a kind
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+
+  e = good_edit();
+  e.position[1] = kNaN;
+  EXPECT_EQ(refused(e), RejectReason::kNonFinite);
+  e = good_edit();
+  e.orientation[3] = kInf;
+  EXPECT_EQ(refused(e), RejectReason::kNonFinite);
+  e = good_edit();
+  e.linear_velocity[0] = -kInf;
+  EXPECT_EQ(refused(e), RejectReason::kNonFinite);
+  e = good_edit();
+  e.angular_velocity[2] = kNaN;
+  EXPECT_EQ(refused(e), RejectReason::kNonFinite);
+
+  e = good_edit();
+  e.body_name = "arm/link.2";
+  EXPECT_EQ(refused(e), RejectReason::kUnknownBody);
+  e = good_edit();
+  e.body_id = 3;
+  EXPECT_EQ(refused(e), RejectReason::kUnknownBody);
+  e.kind = rigid::EditKind::kResetBody;
+  EXPECT_EQ(refused(e), RejectReason::kUnknownBody);
+
+  e = good_edit();
+  e.set = 0;
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e.set = 16;
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e.set = -1;
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e = good_edit();
+  e.velocity_frame = static_cast<rigid::Frame>(2);
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e = good_edit();
+  e.angular_velocity_frame = static_cast<rigid::Frame>(-1);
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  // Not a unit quaternion: a zero one, one off by more than 1e-3.
+  e = good_edit();
+  e.orientation = {0, 0, 0, 0};
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  e.orientation = {1.002, 0, 0, 0};
+  EXPECT_EQ(refused(e), RejectReason::kInvalid);
+  const Checked<Edit> c = validator_.check(e);
+  EXPECT_NE(c.detail.find("orientation (1.002, 0, 0, 0): |q| 1.002 is not 1"), std::string::npos)
+      << c.detail;
+}
+
 TEST(SequenceTable, BackwardsAndRepeatedSequencesAreStale) {
   SequenceTable t(4);
   std::int64_t last = 0;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <variant>
 #include <vector>
 
 namespace rigid::loop {
@@ -64,12 +65,12 @@ TEST_F(IntakeTest, ValidCommandsAreQueuedWithTheirBusAndRingTheDoorbell) {
   EXPECT_EQ(doorbell_.count(), before + 2);
   Command out;
   ASSERT_TRUE(queue_.try_pop(out));
-  EXPECT_EQ(out.kind, Command::Kind::kWrench);
+  ASSERT_TRUE(std::holds_alternative<Wrench>(out.what));
   EXPECT_EQ(out.bus, rigid::Bus::kLcm);
-  EXPECT_EQ(out.wrench.seq, 1);
+  EXPECT_EQ(std::get<Wrench>(out.what).seq, 1);
   ASSERT_TRUE(queue_.try_pop(out));
-  EXPECT_EQ(out.kind, Command::Kind::kControl);
-  EXPECT_EQ(out.control.kind, rigid::ControlKind::kPause);
+  ASSERT_TRUE(std::holds_alternative<Control>(out.what));
+  EXPECT_EQ(std::get<Control>(out.what).kind, rigid::ControlKind::kPause);
   EXPECT_EQ(rejects_.total(), 0);
 }
 
@@ -221,7 +222,7 @@ TEST_F(IntakeTest, WithSecurityOnlyAnAuthenticatedWriterOfThatBodyPushesIt) {
   intake.on_wrench(to_b, alice);
   ASSERT_TRUE(queue_.try_pop(out));
   EXPECT_EQ(std::string(out.sender.name), "alice");
-  EXPECT_NE(out.wrench.owner, 0u);
+  EXPECT_NE(std::get<Wrench>(out.what).owner, 0u);
   // Two sessions of one identity share its key; another identity has another.
   transport::Origin alice2 = alice;
   alice2.session = 6;

@@ -1,8 +1,9 @@
 // "No allocation on the loop thread after start-up", proved: operator new is replaced in this test
 // program (tests/support/allocation_counter.hpp, every form) to count the allocations made on the
 // thread that runs Loop::run(), while the loop is driven through everything it does: ticks in each
-// mode, wrenches (new, replaced, expiring, stale), every control request, resets, refusals, contact
-// events, and the hand-off to real Publishers (over a fake bus).
+// mode, wrenches (new, replaced, expiring, stale), every control request, resets, edits (set_state,
+// reset_body, stale; paused and running), refusals, contact events, and the hand-off to real
+// Publishers (over a fake bus).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -163,8 +164,7 @@ struct Rig {
   }
   void control(ControlKind k, std::int64_t seq, std::int64_t steps = 0, double rtf = 0) {
     Command c;
-    c.kind = Command::Kind::kControl;
-    c.control = Control{100, seq, k, steps, rtf};
+    c.what = Control{100, seq, k, steps, rtf};
     push(c);
   }
 
@@ -209,19 +209,38 @@ void expect_no_allocations(Mode mode, bool journaling = false, const char* scene
     rig.loop.run();
   });
 
-  std::int64_t seq = 1, control_seq = 1;
+  std::int64_t seq = 1, control_seq = 1, edit_seq = 2;
   const auto end = std::chrono::steady_clock::now() + 600ms;
   for (int round = 0; std::chrono::steady_clock::now() < end; ++round) {
     for (int i = 0; i < 8; ++i, ++seq) {
       Command c;
-      c.wrench =
+      c.what =
           make_wrench(seq % 3, seq, static_cast<std::int32_t>(seq % 5),
                       static_cast<std::int32_t>(seq % 4), static_cast<double>(seq % 5) * 0.003);
       rig.push(c);
     }
     Command stale;
-    stale.wrench = make_wrench(0, 1, 0, 0, 0.0);
+    stale.what = make_wrench(0, 1, 0, 0, 0.0);
     rig.push(stale);
+    // An edit each round: a set_state (every part, body-frame velocities), a body reset (names
+    // of at most 15 characters: DrivenWorld::edit says when a reset allocates), a stale one.
+    Command edit;
+    Edit e;
+    e.source = 5;
+    e.seq = round % 7 == 6 ? 1 : edit_seq++;
+    e.body = static_cast<std::int32_t>(round % 5);
+    e.kind = round % 3 == 0 ? rigid::EditKind::kResetBody : rigid::EditKind::kSetState;
+    if (e.kind == rigid::EditKind::kSetState) {
+      e.set = rigid::kSetAll;
+      e.position = {0.1 * round, 0, 1};
+      e.orientation = {0.5, 0.5, 0.5, -0.5};
+      e.linear_velocity = {0, 1, 0};
+      e.velocity_frame = rigid::Frame::kBody;
+      e.angular_velocity = {0, 0, 2};
+      e.angular_velocity_frame = rigid::Frame::kBody;
+    }
+    edit.what = e;
+    rig.push(edit);
     switch (round % 6) {
       case 0:
         rig.control(ControlKind::kPause, control_seq++);

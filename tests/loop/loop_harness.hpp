@@ -27,6 +27,7 @@ class Recorder : public LoopOutput {
     tick_ns.reserve(1 << 20);
     replies.reserve(1 << 12);
     contacts.reserve(1 << 16);
+    journaled.reserve(1 << 12);
   }
   void offer_state(const rigid::StateFrame& frame, std::int64_t /*arrival_ns*/) override {
     const std::int64_t now = monotonic_ns();
@@ -82,6 +83,10 @@ class Recorder : public LoopOutput {
     }
     changed.notify_all();
   }
+  void journal(const common::JournalEntry& e) override {
+    const std::lock_guard lock(mutex);
+    if (journaled.size() < journaled.capacity()) journaled.push_back(e);
+  }
 
   std::mutex mutex;
   std::condition_variable changed;
@@ -91,6 +96,7 @@ class Recorder : public LoopOutput {
   // pace, which a stall of the test's thread does not change.
   std::vector<std::int64_t> tick_ns;
   std::vector<Reply> replies;
+  std::vector<common::JournalEntry> journaled;  // the first 4096 entries
   std::int64_t states = 0;
   std::vector<Contact> contacts;
   std::int64_t contact_ticks = 0;  // offer_contacts calls
@@ -135,14 +141,17 @@ class Harness {
   void control(rigid::ControlKind kind, std::int64_t seq, std::int64_t steps = 0, double rtf = 0.0,
                std::int64_t source = 100) {
     Command c;
-    c.kind = Command::Kind::kControl;
-    c.control = Control{source, seq, kind, steps, rtf};
+    c.what = Control{source, seq, kind, steps, rtf};
     push(c);
   }
   void wrench(const Wrench& w) {
     Command c;
-    c.kind = Command::Kind::kWrench;
-    c.wrench = w;
+    c.what = w;
+    push(c);
+  }
+  void edit(const Edit& e) {
+    Command c;
+    c.what = e;
     push(c);
   }
 

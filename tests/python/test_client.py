@@ -317,6 +317,60 @@ def test_refused_commands_raise_with_rigidds_reason(rigidd: StartDaemon, bus: st
     assert d.stop() == 0, d.stderr()
 
 
+def test_set_state_lands_on_the_next_tick_and_reset_puts_one_body_back(rigidd: StartDaemon,
+                                                                        bus: str) -> None:
+    d = rigidd(PROBE, bus)
+    with client_for(d) as c:
+        t = c.pause().tick
+        r = c.set_state("puck", position=[0, 2, 0], velocity=np.array([0.0, 0.5, 0.0]))
+        assert r.command == "set_state" and r.tick == t, r
+        # Paused: the edited state is published at once, as the same tick.
+        assert wait_for(lambda: c.latest().positions[PUCK].tolist() == [0.0, 2.0, 0.0])
+        assert c.latest().tick == t
+        # The next tick steps from it: 0.5 m/s for 1 ms, no force, no gravity.
+        c.step(1)
+        assert wait_for(lambda: c.latest().tick == t + 1)
+        assert c.latest().positions[PUCK].tolist() == [0.0, 2.0 + 0.5e-3, 0.0]
+        # Body-frame velocities turn with the orientation after the edit (90 degrees about z).
+        h = math.sqrt(0.5)
+        c.set_state("brick", orientation=[h, 0, 0, h], angular_velocity=[1, 0, 0],
+                    angular_velocity_frame="body")
+        assert wait_for(lambda: abs(c.latest().angular_velocities[0][1] - 1.0) < 1e-12), \
+            c.latest().angular_velocities[0]
+        # reset(body): that body back to its scene state; the tick goes on.
+        r = c.reset("puck")
+        assert r.command == "reset_body" and r.tick == t + 1, r
+        assert wait_for(lambda: c.latest().positions[PUCK].tolist() == [1.0, 0.0, 0.0])
+        assert c.latest().velocities[PUCK].tolist() == [0.0, 0.0, 0.0]
+        assert c.latest().tick == t + 1
+
+        # Checked before sending: each error names the argument and its value.
+        with pytest.raises(ValueError, match=r"orientation \(1, 1, 0, 0\) must be a unit"):
+            c.set_state("puck", orientation=[1, 1, 0, 0])
+        with pytest.raises(ValueError, match=r"position \(nan, 0, 0\) is not finite"):
+            c.set_state("puck", position=[math.nan, 0, 0])
+        with pytest.raises(ValueError, match="velocity_frame must be 'world' or 'body'"):
+            c.set_state("puck", velocity=[1, 0, 0], velocity_frame="local")
+        with pytest.raises(ValueError, match="orientation must have 4 components"):
+            c.set_state("puck", orientation=[1, 0, 0])
+        with pytest.raises(ValueError, match="nothing to set"):
+            c.set_state("puck")
+        with pytest.raises(rigid.UnknownBodyError):
+            c.set_state("comet", position=[0, 0, 0])
+    assert d.stop() == 0, d.stderr()
+
+
+def test_edits_are_refused_with_controls_off(rigidd: StartDaemon, bus: str) -> None:
+    d = rigidd(PROBE, bus, "realtime", "--controls", "off")
+    with client_for(d) as c:
+        with pytest.raises(rigid.Refused, match=r"^set_state: not allowed: .*--controls off"):
+            c.set_state("puck", position=[0, 0, 9])
+        with pytest.raises(rigid.Refused, match=r"^reset_body: not allowed: "):
+            c.reset("puck")
+        assert c.latest().positions[PUCK].tolist() == [1.0, 0.0, 0.0]
+    assert d.stop() == 0, d.stderr()
+
+
 def test_no_rigidd_times_out_with_the_bus_named(bus: str) -> None:
     with rigid.Client(bus, prefix="pynobody", timeout=0.3) as c:
         with pytest.raises(TimeoutError, match="no SceneInfo from rigidd within 0.3 s"):

@@ -1,12 +1,14 @@
 // rigidd's switches seen from the bus, each against a rigidd without it (the control that shows
 // the test can tell): --reliable-state offers the state reliably (a reliable reader, written
 // against msgs/rigid.idl with Cyclone's C API alone, matches it, and does not match a default
-// rigidd: incompatible reliability), and --controls off refuses every control with its reason
-// and counts it while wrenches still act. Every wait is bounded by a positive event (a state, an
-// incompatible-QoS report, a reply). Needs scripts/net-setup and CYCLONEDDS_URI (ctest sets it).
+// rigidd: incompatible reliability), and --controls off refuses every control and edit with its
+// reason and counts it while wrenches still act. Every wait is bounded by a positive event (a
+// state, an incompatible-QoS report, a reply). Needs scripts/net-setup and CYCLONEDDS_URI (ctest
+// sets it).
 #include <dds/dds.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -115,6 +117,22 @@ TEST_P(ControlsFlag, ControlsOffRefusesEveryControlWhileWrenchesAct) {
     } else {
       EXPECT_EQ(first->outcome, Outcome::kOk) << first->message;
     }
+    // An edit is allowed where controls are: refused alike, with the reason (asked first, while
+    // this sender's refusals are still answered).
+    rigid::EditCommand edit;
+    edit.kind = rigid::EditKind::kSetState;
+    edit.body_id = 0;
+    edit.set = rigid::kSetPosition;
+    edit.position = {0, 0, 5};
+    const auto edited = client.request(edit, 5s);
+    ASSERT_TRUE(edited) << daemon.stderr_text();
+    EXPECT_EQ(edited->command, rigid::kReplyToEdit);
+    if (off) {
+      EXPECT_EQ(edited->outcome, Outcome::kNotAllowed) << edited->message;
+      EXPECT_NE(edited->message.find("--controls off"), std::string::npos) << edited->message;
+    } else {
+      EXPECT_EQ(edited->outcome, Outcome::kOk) << edited->message;
+    }
     // Every other control, at once (rigidd answers at most 5 refusals a second per sender: the
     // count in Stats is what says each was refused).
     for (const ControlKind kind :
@@ -154,8 +172,16 @@ TEST_P(ControlsFlag, ControlsOffRefusesEveryControlWhileWrenchesAct) {
       const std::vector<TimedState> seen = client.states();
       for (std::size_t i = 1; i < seen.size(); ++i)
         EXPECT_GT(seen[i].state.tick, seen[i - 1].state.tick) << "a refused reset took effect";
+      for (const TimedState& s : seen)
+        EXPECT_EQ(s.state.position[2], 0.0) << "a refused edit took effect";
     } else {
       EXPECT_EQ(stats.rejected.not_permitted, 0);
+      // Paused by the handshake, rigidd published the edited state before answering (the reset
+      // sent after it put the brick back).
+      const std::vector<TimedState> seen = client.states();
+      EXPECT_TRUE(std::any_of(seen.begin(), seen.end(), [](const TimedState& s) {
+        return s.state.position[2] == 5.0;
+      })) << "the edit never showed";
     }
     EXPECT_EQ(daemon.terminate(2000ms), 0) << daemon.stderr_text();
   }

@@ -303,6 +303,32 @@ TEST_F(SecureRigidd, AReaderReadsButNeitherPushesNorControls) {
   EXPECT_EQ(rigidctl({"resume"}, "ctl").exit_code, 0);
 }
 
+// Edits (set_state, reset_body) go where controls go: only an identity that may control makes
+// them; a reader's and a pusher's are refused (their permissions give them no writer), changing
+// nothing.
+TEST_F(SecureRigidd, OnlyAnIdentityThatMayControlEditsBodies) {
+  for (const std::string who : {"reader", "pusher"}) {
+    const Completed set = rigidctl({"set", "okapirock", "--velocity", "1,0,0"}, who);
+    EXPECT_EQ(set.exit_code, 1) << who << ": " << set.err;
+    EXPECT_NE(set.err.find("not permitted"), std::string::npos) << set.err;
+  }
+  EXPECT_EQ(rigidctl({"reset", "okapirock"}, "pusher").exit_code, 1);
+  const auto still = speed_of("okapirock", "reader");
+  ASSERT_TRUE(still);
+  EXPECT_EQ(*still, 0.0);
+
+  const Completed set = rigidctl({"set", "okapirock", "--velocity", "0.5,0,0"}, "ctl");
+  EXPECT_EQ(set.exit_code, 0) << set.err << daemon_->stderr_text();
+  const auto moving = speed_reaching(0.5, "okapirock", "reader");
+  ASSERT_TRUE(moving);
+  EXPECT_EQ(*moving, 0.5);
+  const Completed reset = rigidctl({"reset", "okapirock"}, "ctl");
+  EXPECT_EQ(reset.exit_code, 0) << reset.err;
+  const auto back = speed_reaching(0.0, "okapirock", "reader");
+  ASSERT_TRUE(back);
+  EXPECT_EQ(*back, 0.0);
+}
+
 // An unauthenticated participant writes 20 wrenches of 50 N on zebracraft in the pusher's
 // partition.
 void push_unauthenticated(RawParticipant& plain) {

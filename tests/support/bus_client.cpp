@@ -63,6 +63,13 @@ std::int64_t BusClient::send(rigid::ControlCommand control) {
   return control.seq;
 }
 
+std::int64_t BusClient::send(rigid::EditCommand edit) {
+  edit.source = source_;
+  edit.seq = next_seq();
+  (void)transport_->publish(edit);
+  return edit.seq;
+}
+
 std::optional<rigid::ControlReply> BusClient::handshake(rigid::ControlCommand control,
                                                         std::chrono::milliseconds patience) {
   const auto deadline = std::chrono::steady_clock::now() + patience;
@@ -90,6 +97,19 @@ std::optional<rigid::ControlReply> BusClient::request(rigid::ControlCommand cont
                                                       std::int64_t* seq_used) {
   const std::int64_t seq = send(control);
   if (seq_used != nullptr) *seq_used = seq;
+  return answer_to(seq, patience);
+}
+
+std::optional<rigid::ControlReply> BusClient::request(rigid::EditCommand edit,
+                                                      std::chrono::milliseconds patience,
+                                                      std::int64_t* seq_used) {
+  const std::int64_t seq = send(edit);
+  if (seq_used != nullptr) *seq_used = seq;
+  return answer_to(seq, patience);
+}
+
+std::optional<rigid::ControlReply> BusClient::answer_to(std::int64_t seq,
+                                                        std::chrono::milliseconds patience) {
   std::optional<rigid::ControlReply> answer;
   wait(
       [&] {

@@ -42,6 +42,7 @@ class BusClient final : public transport::Receiver {
   // Fills source and the next seq, publishes; returns the seq used.
   std::int64_t send(rigid::WrenchCommand wrench);
   std::int64_t send(rigid::ControlCommand control);
+  std::int64_t send(rigid::EditCommand edit);
   // Publishes exactly what it is given (source and seq included).
   void send_as_is(const rigid::WrenchCommand& wrench) { (void)transport_->publish(wrench); }
 
@@ -52,6 +53,9 @@ class BusClient final : public transport::Receiver {
                                                std::chrono::milliseconds patience);
   // Sends once and waits for the reply to that seq (written to *seq when given).
   std::optional<rigid::ControlReply> request(rigid::ControlCommand control,
+                                             std::chrono::milliseconds patience,
+                                             std::int64_t* seq = nullptr);
+  std::optional<rigid::ControlReply> request(rigid::EditCommand edit,
                                              std::chrono::milliseconds patience,
                                              std::int64_t* seq = nullptr);
 
@@ -74,6 +78,8 @@ class BusClient final : public transport::Receiver {
   const std::optional<rigid::SceneDescription>& scene_locked() const { return scene_; }
 
  private:
+  std::optional<rigid::ControlReply> answer_to(std::int64_t seq,
+                                               std::chrono::milliseconds patience);
   void on_state(const rigid::StateFrame& state) override;
   void on_stats(const rigid::StatsReport& stats) override;
   void on_scene(const rigid::SceneDescription& scene) override;

@@ -36,6 +36,7 @@ class Mailbox final : public Receiver {
   void on_control(const ControlCommand& m, const Origin& /*origin*/) override {
     store(control_, m);
   }
+  void on_edit(const EditCommand& m, const Origin& /*origin*/) override { store(edit_, m); }
   void on_state(const StateFrame& m) override { store(state_, m); }
   void on_stats(const StatsReport& m) override { store(stats_, m); }
   void on_scene(const SceneDescription& m) override { store(scene_, m); }
@@ -70,6 +71,7 @@ class Mailbox final : public Receiver {
 
   std::optional<WrenchCommand> wrench_;
   std::optional<ControlCommand> control_;
+  std::optional<EditCommand> edit_;
   std::optional<StateFrame> state_;
   std::optional<StatsReport> stats_;
   std::optional<SceneDescription> scene_;
@@ -134,6 +136,11 @@ void round_trip(const Factory& make) {
     EXPECT_EQ(client->publish(control), PublishResult::kOk);
   })) << "no control received within 10 s";
 
+  const EditCommand edit = random.edit();
+  EXPECT_TRUE(server_box.await(&Mailbox::edit_, edit, [&] {
+    EXPECT_EQ(client->publish(edit), PublishResult::kOk);
+  })) << "no edit received within 10 s";
+
   const ControlReply reply = random.reply();
   EXPECT_TRUE(client_box.await(&Mailbox::reply_, reply, [&] {
     EXPECT_EQ(server->publish(reply), PublishResult::kOk);
@@ -154,11 +161,12 @@ void round_trip(const Factory& make) {
   EXPECT_EQ(client->publish(state), PublishResult::kWrongRole);
   EXPECT_EQ(client->publish(contacts), PublishResult::kWrongRole);
   EXPECT_EQ(server->publish(wrench), PublishResult::kWrongRole);
+  EXPECT_EQ(server->publish(edit), PublishResult::kWrongRole);
 
   EXPECT_EQ(server_box.decode_errors(), 0);
   EXPECT_EQ(client_box.decode_errors(), 0);
   EXPECT_GE(server->counts().sent, 3);
-  EXPECT_GE(server->counts().received, 2);
+  EXPECT_GE(server->counts().received, 3);
   EXPECT_GE(client->counts().received, 3);
 }
 

@@ -74,6 +74,29 @@ class RandomMessages {
     return m;
   }
 
+  // Every field of a state edit (whatever the kind: the wire carries them all).
+  void fill(StateEdit& m) {
+    m.set = i32();
+    m.position = vec3();
+    m.orientation = {real(), real(), real(), real()};
+    m.linear_velocity = vec3();
+    m.velocity_frame = any_enum<Frame>();
+    m.angular_velocity = vec3();
+    m.angular_velocity_frame = any_enum<Frame>();
+  }
+
+  EditCommand edit() {
+    EditCommand m;
+    m.source = i64();
+    m.seq = i64();
+    m.kind = any_enum<EditKind>();
+    m.body_id = i32();
+    m.body_name = text();
+    fill(m);
+    m.stamp_ns = i64();
+    return m;
+  }
+
   AcceptedCommand accepted() {
     AcceptedCommand m;
     m.tick = i64();
@@ -91,6 +114,8 @@ class RandomMessages {
     m.command = any_enum<ControlKind>();
     m.steps = i64();
     m.rtf = real();
+    m.edit = any_enum<EditKind>();
+    fill(m);
     m.stamp_ns = i64();
     return m;
   }

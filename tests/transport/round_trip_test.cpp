@@ -49,6 +49,7 @@ void every_message_with_random_values_comes_back_exactly() {
     expect_round_trip(codec, random.scene(bodies));
     expect_round_trip(codec, random.accepted());
     expect_round_trip(codec, random.contacts(random.below(50)));
+    expect_round_trip(codec, random.edit());
   }
 }
 
@@ -63,6 +64,7 @@ void empty_messages_come_back() {
   expect_round_trip(codec, SceneDescription{});
   expect_round_trip(codec, AcceptedCommand{});
   expect_round_trip(codec, ContactEvents{});
+  expect_round_trip(codec, EditCommand{});
 }
 
 template <class Codec>

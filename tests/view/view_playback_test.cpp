@@ -662,16 +662,14 @@ class JournaledSession {
   void wrench(const common::Wrench& w) {
     ASSERT_EQ(driven_.apply(w), common::WrenchTable::Upsert::kInserted);
     common::JournalEntry e;
-    e.kind = common::JournalEntry::Kind::kWrench;
     e.tick = driven_.tick();
-    e.wrench = w;
+    e.what = w;
     command(e);
   }
   void reset() {
     common::JournalEntry e;
-    e.kind = common::JournalEntry::Kind::kControl;
     e.tick = driven_.tick();
-    e.control = common::Control{9, ++control_seq_, ControlKind::kReset, 0, 0};
+    e.what = common::Control{9, ++control_seq_, ControlKind::kReset, 0, 0};
     command(e);
     driven_.reset();
     hashed_tick_ = -1;

@@ -36,6 +36,56 @@ TEST(ViewProtocol, AcceptsTheControls) {
   EXPECT_EQ(c.point, (rigid::Vec3{0, 0, 0.1}));
 }
 
+// rigidd's edits from the page: set_state with the parts given (world frame), reset_body.
+TEST(ViewProtocol, AcceptsTheEdits) {
+  auto r = parse_command(
+      R"({"op":"set_state","id":4,"body":2,"position":[1,2,3],"orientation":[0.5,0.5,-0.5,0.5],)"
+      R"("angular_velocity":[0,0,-7]})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r)) << std::get<std::string>(r);
+  PageCommand c = std::get<PageCommand>(r);
+  EXPECT_EQ(c.op, Op::kSetState);
+  EXPECT_EQ(c.id, 4);
+  EXPECT_EQ(c.body, 2);
+  EXPECT_EQ(c.state.set, rigid::kSetPosition | rigid::kSetOrientation | rigid::kSetAngularVelocity);
+  EXPECT_EQ(c.state.position, (rigid::Vec3{1, 2, 3}));
+  EXPECT_EQ(c.state.orientation, (std::array<double, 4>{0.5, 0.5, -0.5, 0.5}));
+  EXPECT_EQ(c.state.angular_velocity, (rigid::Vec3{0, 0, -7}));
+  EXPECT_EQ(c.state.linear_velocity, (rigid::Vec3{}));
+  EXPECT_EQ(c.state.velocity_frame, rigid::Frame::kWorld);
+  r = parse_command(R"({"op":"set_state","id":5,"body":0,"velocity":[0,0,0]})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).state.set, rigid::kSetLinearVelocity);
+  r = parse_command(R"({"op":"reset_body","id":6,"body":1})");
+  ASSERT_TRUE(std::holds_alternative<PageCommand>(r));
+  EXPECT_EQ(std::get<PageCommand>(r).op, Op::kResetBody);
+  EXPECT_EQ(std::get<PageCommand>(r).body, 1);
+  EXPECT_EQ(op_name(Op::kSetState), "set_state");
+  EXPECT_EQ(op_name(Op::kResetBody), "reset_body");
+
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1})"),
+            "set_state: needs one of position, orientation, velocity, angular_velocity");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"position":[0,0,0]})"), "set_state: missing body");
+  EXPECT_EQ(refusal(R"({"op":"set_state","body":1,"position":[0,0,0]})"), "set_state: missing id");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1,"position":[0,0]})"),
+            "position: expected [x, y, z]");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1,"orientation":[1,0,0]})"),
+            "orientation: expected [w, x, y, z]");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1,"orientation":[2,0,0,0]})"),
+            "orientation: component beyond 1.01");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1,"velocity":[2e9,0,0]})"),
+            "velocity: component beyond 1e9");
+  EXPECT_EQ(refusal(R"({"op":"set_state","id":1,"body":1,"velocity":[0,0,0],"steps":3})"),
+            "set_state: unexpected field");
+  EXPECT_EQ(refusal(R"({"op":"reset_body","id":1,"body":1,"position":[0,0,0]})"),
+            "reset_body: unexpected field");
+  EXPECT_EQ(refusal(R"({"op":"pause","id":1,"position":[0,0,0]})"), "pause: unexpected field");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,0,0],"point":[0,0,0],"velocity":[0,0,0]})"),
+            "push: unexpected field");
+  // rigidd has nothing to edit while a recording plays; a read-only page is refused by the server.
+  EXPECT_NE(refusal_in_mode(c, true), "");
+  EXPECT_EQ(refusal_in_mode(c, false), "");
+}
+
 TEST(ViewProtocol, RefusesGarbageWithAReason) {
   EXPECT_EQ(refusal(""), "expected a JSON object");
   EXPECT_EQ(refusal("\x01\xff garbage"), "expected a JSON object");
@@ -55,7 +105,9 @@ TEST(ViewProtocol, RefusesGarbageWithAReason) {
   EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,2],"point":[0,0,0]})"),
             "force: expected [x, y, z]");
   EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,2,3,4],"point":[0,0,0]})"),
-            "bad array (at most 3 numbers)");
+            "force: expected [x, y, z]");
+  EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,2,3,4,5],"point":[0,0,0]})"),
+            "bad array (at most 4 numbers)");
   EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1e5,0,0],"point":[0,0,0]})"),
             "force: component beyond 1e4");
   EXPECT_EQ(refusal(R"({"op":"push","body":1,"force":[1,0,0]})"),
@@ -403,6 +455,7 @@ TEST(ViewProtocol, SceneAndBoxOfMoments) {
   const std::string j = scene_json(d, 2);
   EXPECT_NE(j.find(R"("name":"a \"quoted\" scene")"), std::string::npos) << j;
   EXPECT_NE(j.find(R"("gravity":[0,0,-9.8100000000000005])"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("max_force":0,"max_torque":0,)"), std::string::npos) << j;
   EXPECT_NE(j.find(R"("mass":1,"inertia":[1,1,1,0,0,0])"), std::string::npos) << j;
   EXPECT_NE(j.find(R"("shape":"capsule","dims":[0.10000000000000001,0.29999999999999999,0])"),
             std::string::npos)

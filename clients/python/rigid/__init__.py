@@ -132,7 +132,7 @@ class SceneInfo:
 class Reply:
     """rigidd's answer to a control request that it carried out (a refusal raises Refused)."""
 
-    command: str  # "pause", "resume", "step", "reset", "rate"
+    command: str  # "pause", "resume", "step", "reset", "rate", "set_state", "reset_body"
     tick: int  # the tick at which it took effect
     message: str
 
@@ -386,9 +386,81 @@ class Client:
         """Run n ticks while paused (or in lockstep); answered when they are done."""
         return self._control("step", n, 0.0, timeout)
 
-    def reset(self, timeout: Optional[float] = None) -> Reply:
-        """Back to the initial state, tick 0, wrenches cleared."""
-        return self._control("reset", 0, 0.0, timeout)
+    def reset(self, body: Optional[Body] = None, timeout: Optional[float] = None) -> Reply:
+        """Back to the initial state, tick 0, wrenches cleared.
+
+        With `body` (a name or an id), that body alone goes back to its scene state and the
+        wrenches acting on it are dropped; the world's tick goes on (an edit: see set_state).
+        """
+        if body is None:
+            return self._control("reset", 0, 0.0, timeout)
+        return self._edit("reset_body", body, None, None, None, "world", None, "world", timeout)
+
+    # -- edits ------------------------------------------------------------------------------
+
+    def _edit(
+        self,
+        kind: str,
+        body: Body,
+        position: Optional[Vector],
+        orientation: Optional[Vector],
+        velocity: Optional[Vector],
+        velocity_frame: str,
+        angular_velocity: Optional[Vector],
+        angular_velocity_frame: str,
+        timeout: Optional[float],
+    ) -> Reply:
+        t = self._wait(timeout)
+        r = self._session.edit(
+            kind,
+            self._session.resolve(body, t),
+            position,
+            orientation,
+            velocity,
+            velocity_frame,
+            angular_velocity,
+            angular_velocity_frame,
+            t,
+        )
+        if r is None:
+            raise self._no_answer(f"reply to {kind}", t)
+        if not r["ok"]:
+            raise Refused(f"{kind}: {r['outcome']}: {r['message']}", r["message"])
+        return Reply(command=r["command"], tick=r["tick"], message=r["message"])
+
+    def set_state(
+        self,
+        body: Body,
+        position: Optional[Vector] = None,
+        orientation: Optional[Vector] = None,
+        velocity: Optional[Vector] = None,
+        angular_velocity: Optional[Vector] = None,
+        *,
+        velocity_frame: str = "world",
+        angular_velocity_frame: str = "world",
+        timeout: Optional[float] = None,
+    ) -> Reply:
+        """Set parts of a body's state between two ticks; the parts left None keep their values.
+
+        position: p_WBo (m, world frame); orientation: q_WB as w, x, y, z (a unit quaternion,
+        normalised by rigidd); velocity (m/s) and angular_velocity (rad/s) in the world frame, or
+        with velocity_frame / angular_velocity_frame "body" in the body's frame as it is
+        oriented after this edit. Returns rigidd's answer: its tick T is the tick the edit was
+        made at, and the state of tick T + 1 is the first stepped from it (a paused rigidd
+        publishes the edited state at once, as tick T). Raises Refused (--controls off, an
+        identity that may not control), UnknownBodyError, ValueError, TimeoutError.
+        """
+        return self._edit(
+            "set_state",
+            body,
+            position,
+            orientation,
+            velocity,
+            velocity_frame,
+            angular_velocity,
+            angular_velocity_frame,
+            timeout,
+        )
 
     def set_rate(self, x: float, timeout: Optional[float] = None) -> Reply:
         """The real-time factor (realtime mode; 0 < x <= 1000)."""

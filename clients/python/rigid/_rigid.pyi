@@ -161,6 +161,18 @@ class _Session:
     def on_state(self, fn: Callable[[State], None]) -> StateCallback: ...
     def on_contact(self, fn: Callable[[Contact], None]) -> None: ...
     def request(self, kind: str, steps: int, rtf: float, timeout: float) -> Optional[dict[str, Any]]: ...
+    def edit(
+        self,
+        kind: str,
+        body: int,
+        position: Optional[Vector],
+        orientation: Optional[Vector],
+        velocity: Optional[Vector],
+        velocity_frame: str,
+        angular_velocity: Optional[Vector],
+        angular_velocity_frame: str,
+        timeout: float,
+    ) -> Optional[dict[str, Any]]: ...
     def resolve(self, body: Body, timeout: float) -> int: ...
     def wrench(
         self, body: int, force: Optional[Vector], at: Optional[Vector], frame: str,

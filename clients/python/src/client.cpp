@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -370,6 +371,75 @@ class PySession {
     return r ? py::object(reply_dict(*r)) : py::none();
   }
 
+  // "set_state" (the parts given, None for the others) or "reset_body" of one body (an id from
+  // resolve()): rigidd's answer as a dict, None on no answer. Numbers are checked here first
+  // (ValueError naming the argument and its value); rigidd checks them again.
+  py::object edit(const std::string& kind, std::int32_t body, const py::handle& position,
+                  const py::handle& orientation, const py::handle& velocity,
+                  const py::handle& velocity_frame, const py::handle& angular_velocity,
+                  const py::handle& angular_velocity_frame, double timeout) {
+    const auto value_error = [](const std::string& message) {
+      raise(py::reinterpret_borrow<py::object>(PyExc_ValueError), message);
+    };
+    no_answer_in_callback("Client." + kind + "()");
+    const auto patience = to_ms(timeout);
+    EditCommand e;
+    e.body_id = body;
+    if (kind == "reset_body") {
+      e.kind = EditKind::kResetBody;
+    } else if (kind == "set_state") {
+      e.kind = EditKind::kSetState;
+      if (!position.is_none()) {
+        e.set |= kSetPosition;
+        e.position = to_array3(position, "position");
+        if (!finite(e.position)) value_error("position " + vec_text(e.position) + " is not finite");
+      }
+      if (!orientation.is_none()) {
+        e.set |= kSetOrientation;
+        e.orientation = to_array<4>(orientation, "orientation");
+        const auto& q = e.orientation;
+        const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (!(std::abs(n - 1.0) <= 1e-3)) {
+          value_error("orientation (" + num(q[0]) + ", " + num(q[1]) + ", " + num(q[2]) + ", " +
+                      num(q[3]) + ") must be a unit quaternion w, x, y, z (|q| " + num(n) +
+                      ", 1 within 1e-3)");
+        }
+      }
+      if (!velocity.is_none()) {
+        e.set |= kSetLinearVelocity;
+        e.linear_velocity = to_array3(velocity, "velocity");
+        if (!finite(e.linear_velocity)) {
+          value_error("velocity " + vec_text(e.linear_velocity) + " is not finite");
+        }
+      }
+      if (!angular_velocity.is_none()) {
+        e.set |= kSetAngularVelocity;
+        e.angular_velocity = to_array3(angular_velocity, "angular_velocity");
+        if (!finite(e.angular_velocity)) {
+          value_error("angular_velocity " + vec_text(e.angular_velocity) + " is not finite");
+        }
+      }
+      e.velocity_frame = wire_frame(velocity_frame, "velocity_frame");
+      e.angular_velocity_frame = wire_frame(angular_velocity_frame, "angular_velocity_frame");
+      if (e.set == 0) {
+        value_error(
+            "set_state: nothing to set (position, orientation, velocity, angular_velocity)");
+      }
+    } else {
+      value_error("unknown edit '" + kind + "' (set_state, reset_body)");
+    }
+    const auto s = live();
+    std::optional<ControlReply> r;
+    {
+      py::gil_scoped_release nogil;
+      r = s->edit(e, patience);
+    }
+    if (!r) return py::none();
+    py::dict d = reply_dict(*r);
+    d["command"] = kind;
+    return d;
+  }
+
   // The id of a body by name or id in the current scene, with rigidctl's message when unknown.
   std::int32_t resolve(const py::handle& body, double timeout) {
     std::string key;
@@ -508,6 +578,9 @@ void bind_client(py::module_& m) {
       .def("on_contact", &PySession::on_contact, py::arg("fn"))
       .def("request", &PySession::request, py::arg("kind"), py::arg("steps"), py::arg("rtf"),
            py::arg("timeout"))
+      .def("edit", &PySession::edit, py::arg("kind"), py::arg("body"), py::arg("position"),
+           py::arg("orientation"), py::arg("velocity"), py::arg("velocity_frame"),
+           py::arg("angular_velocity"), py::arg("angular_velocity_frame"), py::arg("timeout"))
       .def("resolve", &PySession::resolve, py::arg("body"), py::arg("timeout"))
       .def("wrench", &PySession::wrench, py::arg("body"), py::arg("force"), py::arg("at"),
            py::arg("frame"), py::arg("torque"), py::arg("torque_frame"), py::arg("ttl"))

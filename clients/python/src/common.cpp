@@ -38,6 +38,12 @@ std::chrono::milliseconds to_ms(double seconds) {
 }
 
 std::array<double, 3> to_array3(const py::handle& value, std::string_view what) {
+  return to_array<3>(value, what);
+}
+
+template <std::size_t N>
+std::array<double, N> to_array(const py::handle& value, std::string_view what) {
+  const std::string n = std::to_string(N);
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
     a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
@@ -47,18 +53,23 @@ std::array<double, 3> to_array3(const py::handle& value, std::string_view what) 
   if (!a) {
     PyErr_Clear();
     raise(py::reinterpret_borrow<py::object>(PyExc_TypeError),
-          std::string(what) + " must be 3 numbers, got " +
+          std::string(what) + " must be " + n + " numbers, got " +
               std::string(py::str(py::type::of(value).attr("__name__"))));
   }
-  if (a.ndim() != 1 || a.shape(0) != 3) {
+  if (a.ndim() != 1 || a.shape(0) != static_cast<py::ssize_t>(N)) {
     std::string shape = "(";
     for (py::ssize_t i = 0; i < a.ndim(); ++i)
       shape += std::to_string(a.shape(i)) + (a.ndim() == 1 ? "," : i + 1 < a.ndim() ? ", " : "");
     raise(py::reinterpret_borrow<py::object>(PyExc_ValueError),
-          std::string(what) + " must have 3 components, got shape " + shape + ")");
+          std::string(what) + " must have " + n + " components, got shape " + shape + ")");
   }
-  return {a.at(0), a.at(1), a.at(2)};
+  std::array<double, N> out{};
+  for (std::size_t i = 0; i < N; ++i)
+    out[i] = a.at(static_cast<py::ssize_t>(i));
+  return out;
 }
+template std::array<double, 3> to_array<3>(const py::handle&, std::string_view);
+template std::array<double, 4> to_array<4>(const py::handle&, std::string_view);
 
 physics::Vec3 to_vec3(const py::handle& value, std::string_view what) {
   const auto a = to_array3(value, what);

@@ -48,6 +48,9 @@ std::string vec_text(const std::array<double, 3>& v);
 // Three floats from any sequence or array of shape (3,). `what` names the argument in errors:
 // "force must have 3 components, got shape (2,)". Finite values are not checked here.
 std::array<double, 3> to_array3(const py::handle& value, std::string_view what);
+// The same for N numbers (defined for 3 and 4).
+template <std::size_t N>
+std::array<double, N> to_array(const py::handle& value, std::string_view what);
 physics::Vec3 to_vec3(const py::handle& value, std::string_view what);
 bool finite(const std::array<double, 3>& v);
 

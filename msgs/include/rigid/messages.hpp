@@ -43,6 +43,23 @@ enum class Outcome : std::int32_t { kOk = 0, kInvalid = 1, kNotAllowed = 2, kFai
 
 // ControlReply.command of the answer to a refused wrench (msgs/rigid.idl REPLY_WRENCH).
 inline constexpr ControlKind kReplyToWrench = static_cast<ControlKind>(100);
+// ControlReply.command of the answer to an edit (msgs/rigid.idl REPLY_EDIT).
+inline constexpr ControlKind kReplyToEdit = static_cast<ControlKind>(101);
+
+// What an edit of the running world does (EditCommand.kind). One command family: spawning and
+// removing bodies and loading another scene are to join it as further kinds.
+enum class EditKind : std::int32_t {
+  kNone = 0,       // what a zero-initialized message asks for: nothing, so it is refused
+  kSetState = 1,   // sets the parts of one body's state that StateEdit::set names
+  kResetBody = 2,  // puts one body back to its scene state and drops the wrenches acting on it
+};
+
+// StateEdit::set: the parts of the state a kSetState sets; the others keep their values.
+inline constexpr std::int32_t kSetPosition = 1;
+inline constexpr std::int32_t kSetOrientation = 2;
+inline constexpr std::int32_t kSetLinearVelocity = 4;
+inline constexpr std::int32_t kSetAngularVelocity = 8;
+inline constexpr std::int32_t kSetAll = 15;
 
 enum class Mode : std::int32_t { kRealtime = 0, kFast = 1, kLockstep = 2 };
 
@@ -129,6 +146,36 @@ struct Wrench {
   bool operator==(const Wrench&) const = default;
 };
 
+// A body's state as an edit sets it: its one home, as Wrench is a wrench's (the command a client
+// sends, the command the server accepted, the loop's journal). Velocities in a body frame are
+// expressed in B as it is oriented after the edit (the new orientation when the edit sets one).
+struct StateEdit {
+  std::int32_t set = 0;                           // kSet* bits
+  Vec3 position{};                                // p_WBo (m)
+  std::array<double, 4> orientation{1, 0, 0, 0};  // q_WB as w, x, y, z; normalised when applied
+  Vec3 linear_velocity{};                         // v_WBo (m/s), in velocity_frame
+  Frame velocity_frame = Frame::kWorld;
+  Vec3 angular_velocity{};  // w_WB (rad/s), in angular_velocity_frame
+  Frame angular_velocity_frame = Frame::kWorld;
+
+  const StateEdit& state_edit() const { return *this; }
+  StateEdit& state_edit() { return *this; }
+  bool operator==(const StateEdit&) const = default;
+};
+
+// An edit of the running world (client -> server): one body's state set, or one body reset. It
+// takes effect between two ticks and is answered on the control reply topic (kReplyToEdit).
+struct EditCommand : StateEdit {
+  std::int64_t source = 0;
+  std::int64_t seq = 0;
+  EditKind kind = EditKind::kNone;
+  std::int32_t body_id = -1;  // < 0: the body is named by body_name
+  std::string body_name;
+  std::int64_t stamp_ns = 0;
+
+  bool operator==(const EditCommand&) const = default;
+};
+
 // A wrench on one body (controller -> server). The same (source, body, key) replaces the previous
 // wrench; it acts until ttl runs out (0: one tick).
 struct WrenchCommand : Wrench {
@@ -165,13 +212,14 @@ struct ControlReply {
   bool operator==(const ControlReply&) const = default;
 };
 
-enum class AcceptedKind : std::int32_t { kWrench = 1, kControl = 2 };
+enum class AcceptedKind : std::int32_t { kWrench = 1, kControl = 2, kEdit = 3 };
 
 // A command the server accepted, once, with the tick at which it took effect (server -> all): a
 // wrench that entered the table of acting wrenches (it acts from the step that starts at `tick`),
-// or a control request carried out. The Wrench base holds the wrench as the server applies it
-// (its body resolved to an id); the control fields are set for kControl.
-struct AcceptedCommand : Wrench {
+// a control request carried out, or an edit made (before the step that starts at `tick`). The
+// Wrench base holds the wrench as the server applies it (its body resolved to an id); the control
+// fields are set for kControl; for kEdit, `edit`, body_id and the StateEdit base.
+struct AcceptedCommand : Wrench, StateEdit {
   std::int64_t tick = 0;
   AcceptedKind kind = AcceptedKind::kWrench;
   std::int64_t source = 0;
@@ -181,6 +229,7 @@ struct AcceptedCommand : Wrench {
   ControlKind command = ControlKind::kNone;
   std::int64_t steps = 0;
   double rtf = 0.0;
+  EditKind edit = EditKind::kNone;
   std::int64_t stamp_ns = 0;
 
   bool operator==(const AcceptedCommand&) const = default;

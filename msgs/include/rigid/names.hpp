@@ -61,6 +61,19 @@ constexpr std::string_view control_name(ControlKind kind) {
   return "none";
 }
 
+// "set_state", "reset_body"; "none" for kNone or an unknown value.
+constexpr std::string_view edit_name(EditKind kind) {
+  switch (kind) {
+    case EditKind::kSetState:
+      return "set_state";
+    case EditKind::kResetBody:
+      return "reset_body";
+    case EditKind::kNone:
+      break;
+  }
+  return "none";
+}
+
 // "ok", "invalid", "not allowed", "failed"; "unknown outcome" otherwise.
 constexpr std::string_view outcome_name(Outcome outcome) {
   switch (outcome) {

@@ -84,7 +84,7 @@ struct CodecBuffers<Bus::kDds> {
 
   std::tuple<dds::CdrSlot<StateFrame>, dds::CdrSlot<WrenchCommand>, dds::CdrSlot<ControlCommand>,
              dds::CdrSlot<ControlReply>, dds::CdrSlot<StatsReport>, dds::CdrSlot<SceneDescription>,
-             dds::CdrSlot<AcceptedCommand>, dds::CdrSlot<ContactEvents>>
+             dds::CdrSlot<AcceptedCommand>, dds::CdrSlot<ContactEvents>, dds::CdrSlot<EditCommand>>
       slots;
 };
 

@@ -71,6 +71,13 @@ struct DdsTypeOf<ContactEvents> {
   static constexpr Topic topic = Topic::kContacts;
 };
 
+template <>
+struct DdsTypeOf<EditCommand> {
+  using type = rigid_Edit;
+  static constexpr const dds_topic_descriptor_t* descriptor = &rigid_Edit_desc;
+  static constexpr Topic topic = Topic::kEdit;
+};
+
 // Storage some borrowed views need (strings as char arrays, shape kinds as int32): one per writer.
 using BorrowScratch = wire::Scratch;
 

@@ -30,6 +30,7 @@ Qos topic_qos(Topic topic, bool reliable_state) {
       break;
     case Topic::kWrench:
     case Topic::kControl:
+    case Topic::kEdit:
     case Topic::kAccepted:  // a recorder wants every one, as the server received them
       dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, kMaxBlocking);
       dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, kCommandDepth);

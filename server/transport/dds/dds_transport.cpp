@@ -39,9 +39,13 @@ void deliver(Receiver& receiver, const WrenchCommand& message, const Origin& ori
 void deliver(Receiver& receiver, const ControlCommand& message, const Origin& origin) {
   receiver.on_control(message, origin);
 }
+void deliver(Receiver& receiver, const EditCommand& message, const Origin& origin) {
+  receiver.on_edit(message, origin);
+}
 
 // With DDS Security, who wrote a command: the identity and body named by the writer's partition
-// (push/IDENTITY/BODY or control/IDENTITY), which access control lets only that identity use.
+// (push/IDENTITY/BODY, or control/IDENTITY for controls and edits), which access control lets only
+// that identity use.
 // Looked up once per remote writer (dds_get_matched_publication_data allocates) and kept; the
 // cache is bounded (cleared when full: a writer is then looked up again).
 class WriterPartitions {
@@ -178,8 +182,7 @@ class TypedInbox final : public Inbox {
   }
 
  private:
-  static constexpr bool is_command =
-      std::is_same_v<Plain, WrenchCommand> || std::is_same_v<Plain, ControlCommand>;
+  static constexpr bool is_command = transport::is_command(DdsTypeOf<Plain>::topic);
   typename DdsTypeOf<Plain>::type sample_{};
   Plain message_;
   WriterPartitions partitions_;
@@ -229,6 +232,7 @@ class DdsTransport final : public Transport {
     create<SceneDescription>(names, options);
     create<AcceptedCommand>(names, options);
     create<ContactEvents>(names, options);
+    create<EditCommand>(names, options);
     if (add_on_) {
       const std::vector<dds_entity_t> conditions =
           add_on_->open(participant_.get(), receiver_, counter_);
@@ -277,18 +281,13 @@ class DdsTransport final : public Transport {
     if (m.body_name.empty() || m.body_name.size() > kMaxNameLength) return PublishResult::kInvalid;
     constexpr std::size_t i = index_of(Topic::kWrench);
     const std::lock_guard lock(send_mutex_[i]);
-    const dds_entity_t writer = command_writer(push_partition(identity_.name, m.body_name));
+    const dds_entity_t writer =
+        command_writer(Topic::kWrench, push_partition(identity_.name, m.body_name));
     if (writer <= 0) return PublishResult::kNotPermitted;
     return write_with(writer, m, scratch_[i]);
   }
-  PublishResult publish(const ControlCommand& m) override {
-    if (!secure() || role_ != Role::kClient) return write(m);
-    constexpr std::size_t i = index_of(Topic::kControl);
-    const std::lock_guard lock(send_mutex_[i]);
-    const dds_entity_t writer = command_writer(control_partition(identity_.name));
-    if (writer <= 0) return PublishResult::kNotPermitted;
-    return write_with(writer, m, scratch_[i]);
-  }
+  PublishResult publish(const ControlCommand& m) override { return write_controlled(m); }
+  PublishResult publish(const EditCommand& m) override { return write_controlled(m); }
   PublishResult publish(const AcceptedCommand& m) override {
     const PublishResult result = write(m);
     if (add_on_ && result == PublishResult::kOk) add_on_->on_accepted(m);
@@ -326,8 +325,7 @@ class DdsTransport final : public Transport {
     }
     entity =
         Entity(created, "topic " + name + (secure() ? " (not permitted to this identity?)" : ""));
-    const bool command = topic == Topic::kWrench || topic == Topic::kControl;
-    if (secure() && command) {
+    if (secure() && is_command(topic)) {
       if (role_ == Role::kClient) return;  // a writer per partition, made when first needed
       // The server reads every identity's partition of the topic.
       const std::string any =
@@ -349,6 +347,18 @@ class DdsTransport final : public Transport {
                                static_cast<dds_attach_t>(inboxes_.size() - 1)),
             "attach read condition for " + name);
     }
+  }
+
+  // A control or an edit: with security, through the writer of the identity's control partition.
+  template <class Plain>
+  PublishResult write_controlled(const Plain& m) {
+    if (!secure() || role_ != Role::kClient) return write(m);
+    constexpr Topic topic = DdsTypeOf<Plain>::topic;
+    constexpr std::size_t i = index_of(topic);
+    const std::lock_guard lock(send_mutex_[i]);
+    const dds_entity_t writer = command_writer(topic, control_partition(identity_.name));
+    if (writer <= 0) return PublishResult::kNotPermitted;
+    return write_with(writer, m, scratch_[i]);
   }
 
   template <class Plain>
@@ -375,17 +385,15 @@ class DdsTransport final : public Transport {
 
   bool secure() const { return !identity_.name.empty(); }
 
-  // With security, a client's writer for one command partition (push/NAME/BODY, control/NAME),
-  // made the first time it is needed: access control refuses one the identity's permissions do
-  // not allow (0 is returned, and remembered). A new writer is given a moment to match the
-  // server's reader, or its first command would go to no one. The caller holds the topic's lock.
-  dds_entity_t command_writer(const std::string& partition) {
-    if (auto it = command_writers_.find(partition); it != command_writers_.end()) {
-      return it->second.get();
-    }
-    if (command_writers_.size() >= kMaxCommandWriters) return 0;
-    const bool wrench = partition.starts_with(kPushPartition);
-    const Topic topic = wrench ? Topic::kWrench : Topic::kControl;
+  // With security, a client's writer of one command topic for one partition (push/NAME/BODY,
+  // control/NAME), made the first time it is needed: access control refuses one the identity's
+  // permissions do not allow (0 is returned, and remembered). A new writer is given a moment to
+  // match the server's reader, or its first command would go to no one. The caller holds the
+  // topic's lock.
+  dds_entity_t command_writer(Topic topic, const std::string& partition) {
+    std::map<std::string, Entity>& writers = command_writers_[index_of(topic)];
+    if (auto it = writers.find(partition); it != writers.end()) return it->second.get();
+    if (writers.size() >= kMaxCommandWriters) return 0;
     if (topics_[index_of(topic)].get() <= 0) return 0;  // the identity has no such topic
     const Qos qos = topic_qos(topic, false);
     const char* partitions[] = {partition.c_str()};
@@ -393,10 +401,10 @@ class DdsTransport final : public Transport {
     const dds_entity_t writer =
         dds_create_writer(participant_.get(), topics_[index_of(topic)].get(), qos.get(), nullptr);
     if (writer < 0) {
-      command_writers_.emplace(partition, Entity());
+      writers.emplace(partition, Entity());
       return 0;
     }
-    Entity& entity = command_writers_.emplace(partition, Entity(writer, "writer")).first->second;
+    Entity& entity = writers.emplace(partition, Entity(writer, "writer")).first->second;
     const std::int64_t give_up = dds_time() + DDS_SECS(2);
     dds_publication_matched_status_t matched{};
     while (dds_get_publication_matched_status(writer, &matched) == DDS_RETCODE_OK &&
@@ -442,7 +450,8 @@ class DdsTransport final : public Transport {
   std::array<std::mutex, kAllTopics.size()> send_mutex_;  // guards scratch_
   std::array<BorrowScratch, kAllTopics.size()> scratch_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
-  std::map<std::string, Entity> command_writers_;  // by partition; guarded by send_mutex_
+  // By topic, then partition; each map guarded by its topic's send_mutex_.
+  std::array<std::map<std::string, Entity>, kAllTopics.size()> command_writers_;
   // The receive thread's waitset results: one per reader, the stop condition and the add-on's.
   std::vector<dds_attach_t> triggered_ = std::vector<dds_attach_t>(kAllTopics.size() + 1);
   std::thread thread_;

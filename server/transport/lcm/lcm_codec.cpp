@@ -84,6 +84,22 @@ constexpr std::array kControlLayout{
     kF64,  // rtf
 };
 
+constexpr std::array kEditLayout{
+    kI64,                  // source
+    kI64,                  // seq
+    kI32,                  // kind
+    kI32,                  // body_id
+    kStr,                  // body_name
+    kI32,                  // set
+    kVec3,                 // position
+    fixed(K::kDouble, 4),  // orientation
+    kVec3,                 // linear_velocity
+    kI32,                  // velocity_frame
+    kVec3,                 // angular_velocity
+    kI32,                  // angular_velocity_frame
+    kI64,                  // stamp_ns
+};
+
 constexpr std::array kControlReplyLayout{
     kI64,  // source
     kI64,  // seq
@@ -164,22 +180,30 @@ constexpr std::array kContactEventsLayout{
 };
 
 constexpr std::array kAcceptedCommandLayout{
-    kI64,   // tick
-    kI32,   // kind
-    kI64,   // source
-    kI64,   // seq
-    kI32,   // key
-    kI32,   // body_id
-    kVec3,  // force
-    kVec3,  // point
-    kI32,   // force_frame
-    kVec3,  // torque
-    kI32,   // torque_frame
-    kF64,   // ttl
-    kI32,   // command
-    kI64,   // steps
-    kF64,   // rtf
-    kI64,   // stamp_ns
+    kI64,                  // tick
+    kI32,                  // kind
+    kI64,                  // source
+    kI64,                  // seq
+    kI32,                  // key
+    kI32,                  // body_id
+    kVec3,                 // force
+    kVec3,                 // point
+    kI32,                  // force_frame
+    kVec3,                 // torque
+    kI32,                  // torque_frame
+    kF64,                  // ttl
+    kI32,                  // command
+    kI64,                  // steps
+    kF64,                  // rtf
+    kI32,                  // edit
+    kI32,                  // set
+    kVec3,                 // position
+    fixed(K::kDouble, 4),  // orientation
+    kVec3,                 // linear_velocity
+    kI32,                  // velocity_frame
+    kVec3,                 // angular_velocity
+    kI32,                  // angular_velocity_frame
+    kI64,                  // stamp_ns
 };
 
 // The layout of the message carrying Plain.
@@ -193,6 +217,7 @@ constexpr const auto& layout_for() {
   if constexpr (std::is_same_v<Plain, SceneDescription>) return kSceneInfoLayout;
   if constexpr (std::is_same_v<Plain, AcceptedCommand>) return kAcceptedCommandLayout;
   if constexpr (std::is_same_v<Plain, ContactEvents>) return kContactEventsLayout;
+  if constexpr (std::is_same_v<Plain, EditCommand>) return kEditLayout;
 }
 
 template <class LcmType, class Plain>
@@ -283,7 +308,7 @@ struct CodecBuffers<Bus::kLcm> {
 
   std::tuple<SlotOf<StateFrame>, SlotOf<WrenchCommand>, SlotOf<ControlCommand>,
              SlotOf<ControlReply>, SlotOf<StatsReport>, SlotOf<SceneDescription>,
-             SlotOf<AcceptedCommand>, SlotOf<ContactEvents>>
+             SlotOf<AcceptedCommand>, SlotOf<ContactEvents>, SlotOf<EditCommand>>
       slots;
 };
 

@@ -9,6 +9,7 @@
 #include <rigid_lcm/ContactEvents.hpp>
 #include <rigid_lcm/Control.hpp>
 #include <rigid_lcm/ControlReply.hpp>
+#include <rigid_lcm/Edit.hpp>
 #include <rigid_lcm/SceneInfo.hpp>
 #include <rigid_lcm/Stats.hpp>
 #include <rigid_lcm/WorldState.hpp>
@@ -54,6 +55,10 @@ struct LcmTypeOf<AcceptedCommand> {
 template <>
 struct LcmTypeOf<ContactEvents> {
   using type = rigid_lcm::ContactEvents;
+};
+template <>
+struct LcmTypeOf<EditCommand> {
+  using type = rigid_lcm::Edit;
 };
 
 // The count fields for n rows (bodies, refused sources, events; bodies and parts); a message

@@ -33,6 +33,9 @@ void deliver(Receiver& receiver, const WrenchCommand& message) {
 void deliver(Receiver& receiver, const ControlCommand& message) {
   receiver.on_control(message, Origin{});
 }
+void deliver(Receiver& receiver, const EditCommand& message) {
+  receiver.on_edit(message, Origin{});
+}
 
 // The command socket wants a receive buffer that holds a burst (it also sees every state the
 // server multicasts on the same group, fragments that it drops).
@@ -158,7 +161,8 @@ class LcmTransport final : public Transport {
       commands_ = std::make_unique<CommandSocket>(
           with_receive_buffer(options.url),
           std::vector<std::string>{channels_[index_of(Topic::kWrench)],
-                                   channels_[index_of(Topic::kControl)]});
+                                   channels_[index_of(Topic::kControl)],
+                                   channels_[index_of(Topic::kEdit)]});
       thread_ = std::thread([this, &receiver] { receive_commands(receiver); });
       util::name_thread(thread_, "rigid-lcm-in");
       return;
@@ -166,6 +170,7 @@ class LcmTransport final : public Transport {
     subscribe<StateFrame>(intake);
     subscribe<WrenchCommand>(intake);
     subscribe<ControlCommand>(intake);
+    subscribe<EditCommand>(intake);
     subscribe<ControlReply>(intake);
     subscribe<StatsReport>(intake);
     subscribe<SceneDescription>(intake);
@@ -209,6 +214,7 @@ class LcmTransport final : public Transport {
   PublishResult publish(const ControlReply& m) override { return send(m); }
   PublishResult publish(const WrenchCommand& m) override { return send(m); }
   PublishResult publish(const ControlCommand& m) override { return send(m); }
+  PublishResult publish(const EditCommand& m) override { return send(m); }
   PublishResult publish(const AcceptedCommand& m) override { return send(m); }
   PublishResult publish(const ContactEvents& m) override { return send(m); }
 
@@ -254,6 +260,12 @@ class LcmTransport final : public Transport {
     fds[0] = {commands_->fd(), POLLIN, 0};
     fds[1] = {wake_.get(), POLLIN, 0};
     const std::string& wrench_channel = channels_[index_of(Topic::kWrench)];
+    const std::string& edit_channel = channels_[index_of(Topic::kEdit)];
+    const auto topic_of = [&](std::string_view channel) {
+      return channel == wrench_channel ? Topic::kWrench
+             : channel == edit_channel ? Topic::kEdit
+                                       : Topic::kControl;
+    };
     for (;;) {
       if (::poll(fds.data(), fds.size(), -1) < 0) {
         if (errno == EINTR) continue;
@@ -266,8 +278,9 @@ class LcmTransport final : public Transport {
               std::uint64_t session) {
             Origin origin;
             origin.session = session;
-            const Topic topic = channel == wrench_channel ? Topic::kWrench : Topic::kControl;
+            const Topic topic = topic_of(channel);
             const DecodeStatus status = topic == Topic::kWrench ? codec_.decode(payload, wrench_)
+                                        : topic == Topic::kEdit ? codec_.decode(payload, edit_)
                                                                 : codec_.decode(payload, control_);
             if (status != DecodeStatus::kOk) {
               counter_.decode_failed();
@@ -277,6 +290,8 @@ class LcmTransport final : public Transport {
             counter_.received();
             if (topic == Topic::kWrench) {
               receiver.on_wrench(wrench_, origin);
+            } else if (topic == Topic::kEdit) {
+              receiver.on_edit(edit_, origin);
             } else {
               receiver.on_control(control_, origin);
             }
@@ -286,9 +301,8 @@ class LcmTransport final : public Transport {
             // a datagram that is not LCM at all: counted, never reassembled.
             if (rejected.reason == Rejection::kFragment && rejected.channel.empty()) return;
             counter_.decode_failed();
-            const Topic topic =
-                rejected.channel == wrench_channel ? Topic::kWrench : Topic::kControl;
-            receiver.on_decode_error({Bus::kLcm, topic, DecodeStatus::kMalformed, rejected.bytes});
+            receiver.on_decode_error(
+                {Bus::kLcm, topic_of(rejected.channel), DecodeStatus::kMalformed, rejected.bytes});
           });
     }
   }
@@ -319,6 +333,7 @@ class LcmTransport final : public Transport {
   std::unique_ptr<CommandSocket> commands_;      // server role
   WrenchCommand wrench_;                         // decoded commands, reused
   ControlCommand control_;
+  EditCommand edit_;
   LcmHandle lcm_;
   FileDescriptor wake_;
   std::thread thread_;

@@ -1,6 +1,6 @@
 // A client's conversation with rigidd on one bus: it keeps the newest SceneInfo, state and Stats,
 // hands each state, accepted command, Stats and scene to optional handlers, and sends control
-// requests and wrenches so that they arrive exactly once.
+// requests, edits and wrenches so that they arrive exactly once.
 //
 // Exactly once: on DDS a message written before discovery has matched the server's reader is lost
 // (readers that appear later do not get it), and discovery takes a moment. So a request waits
@@ -77,6 +77,17 @@ class Session {
   std::optional<ControlReply> step(std::int64_t ticks, std::chrono::milliseconds patience);
   std::optional<ControlReply> reset(std::chrono::milliseconds patience);
   std::optional<ControlReply> set_rtf(double rtf, std::chrono::milliseconds patience);
+
+  // Edits of the running world, answered like a control (ControlReply.command kReplyToEdit, the
+  // tick T it was made at: the state of tick T + 1 is the first stepped from it; a paused rigidd
+  // publishes the edited state at once, as tick T). edit() sends any (source, seq and, if 0,
+  // stamp_ns filled in); a body is named by id (or body_id < 0 and body_name).
+  std::optional<ControlReply> edit(EditCommand edit, std::chrono::milliseconds patience);
+  // The parts of the body's state that state.set names (kSetPosition | ...), in their frames.
+  std::optional<ControlReply> set_state(std::int32_t body, const StateEdit& state,
+                                        std::chrono::milliseconds patience);
+  // The body back to its scene state, the wrenches acting on it dropped.
+  std::optional<ControlReply> reset_body(std::int32_t body, std::chrono::milliseconds patience);
 
   // Sends the wrench (source and seq filled in) and returns the server's acceptance of it, or
   // nothing: refused (rigidd's reason in *refused, at once) or no answer within `patience`
