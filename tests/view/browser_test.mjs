@@ -270,6 +270,12 @@ try {
   const shapes = await rv('Object.fromEntries(window.rigidView.bodies.map((b) => [b.name, b.shape + (b.fromMoments ? "*" : "")]))');
   const want = { spinner: 'box', ball: 'sphere', can: 'cylinder', pill: 'capsule', egg: 'ellipsoid', lump: 'box*' };
   if (JSON.stringify(shapes) !== JSON.stringify(want)) throw new Error(`bodies drawn: ${JSON.stringify(shapes)}`);
+  // Framed at the first state: the camera aims at the centre of the bodies' bounds (x and y from -1
+  // to 1, z from 0 to 1: the centre (0, 0, 0.5)) and every body is on the screen.
+  const target = await rv('window.rigidView.target()');
+  if (Math.max(...target.map((x, i) => Math.abs(x - [0, 0, 0.5][i]))) > 1e-9) throw new Error(`the camera aims at ${target}, not the scene's centre`);
+  const onScreen = await rv('window.rigidView.bodies.map((b) => { const s = window.rigidView.screenOf(b.name); return s.x > 0 && s.x < innerWidth && s.y > 0 && s.y < innerHeight; })');
+  if (!onScreen.every((x) => x)) throw new Error(`bodies off the screen after framing: ${onScreen}`);
   // Instancing: every body of the scene is an instance; bodies of one shape share a mesh whatever
   // their sizes (the ball and the egg: the unit sphere, scaled), the translucent box of moments
   // apart from the solid box: 5 meshes for 6 bodies.
@@ -393,9 +399,76 @@ try {
   console.log(`running: ${moving.drawn} frames drawn, ${moving.skipped} skipped in 1.5 s`);
   if (moving.drawn < 10 || moving.skipped > moving.drawn / 4) throw new Error(`running, the page drew ${JSON.stringify(moving)} (expected every frame)`);
 
+  // Looks (pixels read from the canvas, at full render scale). The world axes show over the grid
+  // they lie in: the pixels halfway along x and y are red and green (depth-tested against the
+  // grid's lines they flickered in and out). The ball (at rest, unturned after the reset) is
+  // darker on alternate octants of its frame: two points of its surface on either side of its
+  // y-z plane, lit nearly alike, differ in brightness by about the markings' factor.
+  await rv('window.rigidView.holdRenderScale(1)');
+  const heldAt = await rv('window.rigidView.rendered');
+  await until('a frame at full render scale', () => rv(`window.rigidView.rendered >= ${heldAt + 2}`), 3000);
+  const pixelsAt = (points) => page.evaluate((pts) => new Promise((resolve) => requestAnimationFrame(() => {
+    const canvas = document.querySelector('#view canvas');
+    const r = canvas.getBoundingClientRect();
+    const c = document.createElement('canvas');
+    c.width = canvas.width;
+    c.height = canvas.height;
+    const g = c.getContext('2d');
+    g.drawImage(canvas, 0, 0);
+    const s = canvas.width / r.width;
+    resolve(pts.map(({ x, y }) => Array.from(g.getImageData(Math.round((x - r.left) * s), Math.round((y - r.top) * s), 1, 1).data)));
+  })), points);
+  const [xAxis, yAxis] = await pixelsAt([await rv('window.rigidView.screenAt([0.45, 0, 0])'),
+                                         await rv('window.rigidView.screenAt([0, 0.45, 0])')]);
+  console.log(`world axes over the grid: x ${xAxis}, y ${yAxis}`);
+  if (!(xAxis[0] > 150 && xAxis[1] < 110 && xAxis[2] < 110)) throw new Error(`the x axis is not drawn over the grid: ${xAxis}`);
+  if (!(yAxis[1] > 100 && yAxis[0] < 100 && yAxis[2] < 110)) throw new Error(`the y axis is not drawn over the grid: ${yAxis}`);
+  const ballRadius = 0.15;
+  // Points of its surface (not inside it: a point inside is drawn where the ray to it meets the
+  // surface, on the camera's side, which may be across that plane), facing the camera.
+  const side = (sx) => { const n = Math.hypot(0.3, 1, 1); return [sx * 0.3, -1, 1].map((c) => ballRadius * c / n); };
+  const [light, dark] = await pixelsAt([await rv(`window.rigidView.screenOf("ball", ${JSON.stringify(side(-1))})`),
+                                        await rv(`window.rigidView.screenOf("ball", ${JSON.stringify(side(1))})`)]);
+  const luma = ([r, g, b]) => 0.2126 * r + 0.7152 * g + 0.0722 * b;
+  // (The sun lights the darker octant's point more: unmarked, it is the brighter of the two.)
+  const ratio = luma(dark) / luma(light);
+  console.log(`the ball's octants: ${light} and ${dark} (brightness ratio ${ratio.toFixed(3)})`);
+  if (!(ratio > 0.5 && ratio < 0.9)) throw new Error(`the ball shows no markings: ${light} and ${dark}`);
+  await rv('window.rigidView.holdRenderScale(null)');
+  // Names: the body under the pointer is named beside it; "names" (the key N) names every body; the
+  // help (the key ?) lists the mouse and keys, and Esc closes it; "fit" (the key F) frames the
+  // scene again after the camera moved away.
+  const canAt = await rv('window.rigidView.screenOf("can")');
+  await page.mouse.move(canAt.x, canAt.y);
+  const canId = await rv('window.rigidView.bodyState("can").id');
+  await until('the can named under the pointer', () => rv(`window.rigidView.tooltip === "can (id ${canId})"`), 3000);
+  await page.mouse.move(500, (await rv('innerHeight')) - 5);  // off the bodies, on the view
+  await page.keyboard.press('n');
+  const named = await until('every body named', () => rv('window.rigidView.labels().length === 6 ? window.rigidView.labels() : null'), 3000);
+  if ([...named].sort().join() !== 'ball,can,egg,lump,pill,spinner') throw new Error(`names shown: ${named}`);
+  await page.keyboard.press('n');
+  await until('the names gone', () => rv('window.rigidView.labels().length === 0'), 3000);
+  await page.keyboard.press('?');
+  if (!(await rv('window.rigidView.helpShown'))) throw new Error('the key ? did not show the help');
+  const help = await page.textContent('#help-table');
+  if (!/left drag on a body/.test(help) || !/zoom to fit/.test(help)) throw new Error(`the help lists: ${help}`);
+  await page.keyboard.press('Escape');
+  if (await rv('window.rigidView.helpShown')) throw new Error('Esc did not close the help');
+  const distance = '(() => { const t = window.rigidView.target(), c = window.rigidView.cameraPosition(); return Math.hypot(c[0] - t[0], c[1] - t[1], c[2] - t[2]); })()';
+  const near = await rv(distance);
+  await page.mouse.move(canAt.x, canAt.y);
+  await page.mouse.wheel(0, 1500);  // far out
+  await until('the camera zoomed out', async () => (await rv(distance)) > 1.5 * near, 3000);
+  await page.keyboard.press('f');
+  const refit = await until('the scene framed again', () => rv(`(() => { const t = window.rigidView.target(), d = ${distance}; return Math.hypot(t[0], t[1], t[2] - 0.5) < 1e-9 && d < ${1.5 * near} ? d : null; })()`), 3000);
+  console.log(`framed again: camera ${refit.toFixed(3)} m from the scene's centre (${near.toFixed(3)} before zooming out)`);
+
   // Push with the mouse: drag the ball (at rest after the reset, no gravity) to the right on the
-  // screen. Its velocity, read by rigidctl, must point right on the screen; an arrow is drawn
-  // for the push while the button is held; after release the velocity stays constant.
+  // screen and hold it there. The pull is a critically damped spring to the pointer: the ball,
+  // read by rigidctl, has moved right on the screen and is nearly at rest when let go (it does
+  // not fly away), and an arrow is drawn for the push while the button is held, never shorter
+  // than a few percent of its distance from the camera; after release the velocity stays
+  // constant.
   async function echoBody(name) {
     const e = start(rigidctl, ['echo', '--csv', '--count', '1', '--timeout', '10', ...bus]);
     const c = await Processes.exited(e, 15000);
@@ -419,7 +492,11 @@ try {
   const arrow = await until('a wrench arrow on the ball while pushing',
                             () => rv(`window.rigidView.arrows.find((a) => a.body === ${ballId})`), 5000);
   if (!(arrow.force[0] ** 2 + arrow.force[1] ** 2 + arrow.force[2] ** 2 > 1)) throw new Error(`arrow ${JSON.stringify(arrow)}`);
-  await sleep(500);
+  const eye = await rv('window.rigidView.cameraPosition()');
+  const arrowDistance = Math.hypot(...arrow.from.map((x, i) => x - eye[i]));
+  if (!(arrow.length >= 0.06 * arrowDistance - 1e-9)) throw new Error(`the arrow is ${arrow.length} m long, ${arrowDistance} m from the camera`);
+  await sleep(2500);  // the spring settles (its time constant is 1/4 s)
+  const settledPull = await rv('window.rigidView.pullForce');
   await page.mouse.up();
   const pushes = (await rv('window.rigidView.pushes')) - pushesBefore;
   if (pushes < 5) throw new Error(`${pushes} pushes sent while dragging`);
@@ -430,18 +507,42 @@ try {
   await sleep(500);
   const ball2 = await echoBody('ball');
   const speed = Math.hypot(...ball1.v);
-  console.log(`ball after the drag: v ${JSON.stringify(ball1.v)} (${pushes} pushes), then ${JSON.stringify(ball2.v)}`);
-  if (speed < 0.05) throw new Error(`the drag did not move the ball: v = ${ball1.v}`);
-  // The direction on the screen: where p + v lands relative to p.
-  const p0 = await rv('window.rigidView.screenOf("ball")');
-  const p1 = await rv(`window.rigidView.screenOf("ball", ${JSON.stringify(ball1.v.map((x) => x / speed))})`);
+  const moved = ball1.p.map((x, i) => x - ballBefore.p[i]);
+  console.log(`ball after the drag: moved ${JSON.stringify(moved)}, v ${JSON.stringify(ball1.v)} (${pushes} pushes, pull ${JSON.stringify(settledPull)} N when let go), then ${JSON.stringify(ball2.v)}`);
+  if (!(Math.hypot(...moved) > 0.2)) throw new Error(`the drag did not move the ball: it moved ${moved}`);
+  if (!(speed < 0.05)) throw new Error(`the ball flies away after the drag: v = ${ball1.v}`);
+  // The direction on the screen: where the ball went relative to where it was.
+  const p0 = await rv(`window.rigidView.screenAt(${JSON.stringify(ballBefore.p)})`);
+  const p1 = await rv(`window.rigidView.screenAt(${JSON.stringify(ball1.p)})`);
   const dx = p1.x - p0.x, dy = p1.y - p0.y;
-  if (!(dx > 0 && Math.abs(dy) < 0.5 * dx)) throw new Error(`the ball moves along (${dx}, ${dy}) on the screen, not to the right`);
+  if (!(dx > 0 && Math.abs(dy) < 0.5 * dx)) throw new Error(`the ball moved along (${dx}, ${dy}) on the screen, not to the right`);
   if (!(ball2.t > ball1.t) || Math.max(...ball1.v.map((x, i) => Math.abs(x - ball2.v[i]))) > 1e-9)
     throw new Error(`the push did not stop after release: v ${ball1.v} at ${ball1.t}, ${ball2.v} at ${ball2.t}`);
   // The push's work is not drift: the ball's reference is taken again after it ends.
   const ballDrift = await rv('window.rigidView.drift("ball")');
   if (!(ballDrift.energy < 1e-6 && ballDrift.momentum < 1e-6)) throw new Error(`ball drift after the push: ${JSON.stringify(ballDrift)}`);
+
+  // rigidd's edits from the page: the selected ball's state set from the form (a velocity up z),
+  // then "put back" (the key B): its scene state again, at rest at (1, 0, 0); each answered by
+  // rigidd with its tick, and neither is drift (the reference is taken again).
+  if (!(await rv('window.rigidView.select("ball")'))) throw new Error('no ball to select');
+  await page.click('#setstate summary');
+  await page.fill('#edit-v', '0, 0, 0.5');
+  await page.fill('#edit-w', '');
+  const setBefore = await rv('window.rigidView.replies.length');
+  await page.click('#edit-set');
+  const setReply = await until('rigidd\'s answer to set_state', () => rv(`window.rigidView.replies.slice(${setBefore}).find((r) => r.op === "set_state")`));
+  if (!setReply.ok) throw new Error(`set_state answered ${JSON.stringify(setReply)}`);
+  await until('the ball rising at 0.5 m/s', () => rv('(() => { const v = window.rigidView.bodyState("ball").linear_velocity; return v[2] === 0.5 && v[0] === 0 && v[1] === 0; })()'), 5000);
+  const backBefore = await rv('window.rigidView.replies.length');
+  await page.keyboard.press('b');
+  const backReply = await until('rigidd\'s answer to reset_body', () => rv(`window.rigidView.replies.slice(${backBefore}).find((r) => r.op === "reset_body")`));
+  if (!backReply.ok || !(backReply.tick > setReply.tick)) throw new Error(`reset_body answered ${JSON.stringify(backReply)} after set_state at ${setReply.tick}`);
+  if (!(await page.textContent('#answer')).startsWith('reset_body: ok at tick')) throw new Error(`the page shows '${await page.textContent('#answer')}'`);
+  await until('the ball put back', () => rv('(() => { const s = window.rigidView.bodyState("ball"); return s.position.join() === "1,0,0" && s.linear_velocity.join() === "0,0,0"; })()'), 5000);
+  const backDrift = await until('drift after the edits', () => rv('window.rigidView.drift("ball")'));
+  if (!(backDrift.energy < 1e-6 && backDrift.momentum < 1e-6)) throw new Error(`ball drift after the edits: ${JSON.stringify(backDrift)}`);
+  await rv('window.rigidView.select(null)');
 
   // A pure torque, given in the spinner's frame B (rigidd turns it by R_WB when it applies it):
   // the page must draw a circular arrow about tau_W = R_WB tau_B through p_WBo, turning by the

@@ -1,18 +1,24 @@
 // rigid-view's page: draws rigidd's bodies from the scene message and the binary state frames
-// rigid-view sends (protocol.js), shows Stats, sends pause/resume/step/reset and pushes (drag a
-// body), draws the accepted wrenches as arrows, live or recorded, a body list with the selected
-// body's state, trails, and plots of energy and angular-momentum drift and of tick lateness.
+// rigid-view sends (protocol.js), shows Stats, sends pause/resume/step/reset, pushes (drag a body)
+// and edits (put a body back, set its state), draws the accepted wrenches as arrows, live or
+// recorded, a body list with the selected body's state, names, trails, and plots of energy and
+// angular-momentum drift and of tick lateness.
 //
 // This module makes the page's parts and joins them; each part is a module of its own:
 //   protocol.js     the state frames decoded (layout generated from protocol.hpp)
 //   connection.js   the WebSocket to rigid-view: messages in, commands and acknowledgements out
 //   viewport.js     renderer, scene, camera and orbit controls, render scale
+//   stage.js        background, grid, world axes, lights, the bodies' octant markings
+//   framing.js      zoom to fit (a new scene is framed at its first state)
 //   draw_loop.js    the animation loop, drawing only on change (redraw.js)
 //   bodies.js       the scene's bodies: built from the scene message, placed by each state
 //   static_parts.js the scene's planes and static shapes, drawn once from the scene message
 //   shapes.js, impostors.js, impostor_shaders.js   how bodies are drawn (small and large scenes)
 //   picking.js      the body under a ray
-//   input.js        the pointer: push, select, hover;  push.js: the push itself
+//   input.js        the pointer: push, select, hover;  push.js: the push itself (a damped spring)
+//   labels.js       names: the hovered body's, and all (the "names" switch)
+//   body_edit.js    the selected body's edits: put back, stop, set state
+//   help.js         the keys, and the overlay listing them with the mouse's gestures
 //   selection.js    the selected body and what follows it
 //   wrenches.js     accepted wrenches as force and torque arrows
 //   trails.js       trails;  hud.js: status, Stats, controls;  panel.js: body list, plots
@@ -20,12 +26,16 @@
 //   timeline.js     playback's timeline (rigid-view FILE)
 // A new message type gets its case in onMessage; what a frame does is in frame(), in order.
 import { Bodies, isLarge } from './bodies.js';
+import { BodyEdit } from './body_edit.js';
 import { Connection } from './connection.js';
 import { exposeDebug } from './debug.js';
 import { DrawLoop } from './draw_loop.js';
 import { DriftTable } from './drift.js';
+import { Framing } from './framing.js';
+import { Keys } from './help.js';
 import { Hud } from './hud.js';
 import { PointerInput } from './input.js';
+import { Labels } from './labels.js';
 import { Panel } from './panel.js';
 import { decodeState } from './protocol.js';
 import { Push } from './push.js';
@@ -46,7 +56,7 @@ const parts = new StaticParts(scene);
 const connection = new Connection({ open: () => hud.connected(true), close: () => hud.connected(false),
                                     state: () => loop.ensure(), message: onMessage });
 const push = new Push(scene, viewport, connection);
-const wrenches = new Wrenches(scene, bodies);
+const wrenches = new Wrenches(scene, bodies, viewport.camera);
 const selection = new Selection();
 const input = new PointerInput(document.getElementById('view'),
                                { viewport, bodies, push, selection, connection });
@@ -56,6 +66,26 @@ const hud = new Hud(connection);
 const panel = new Panel(bodies, selection, viewport, drift);
 const timeline = createTimeline((op, extra) => hud.control(op, extra));
 const timings = new Timings();
+const framing = new Framing(viewport, bodies);
+const labels = new Labels(document.getElementById('labels'), viewport, bodies,
+                          () => [selection.body, input.hovered]);
+const bodyEdit = new BodyEdit(selection, hud);
+const $ = (id) => document.getElementById(id);
+const toggle = (id) => {
+  $(id).checked = !$(id).checked;
+  $(id).dispatchEvent(new Event('change'));
+};
+$('fit').onclick = () => { framing.fit(); wake(); };
+$('names').onchange = () => { labels.toggle($('names').checked); wake(); };
+const keys = new Keys({
+  pauseOrResume: () => hud.control(hud.lastStats && hud.lastStats.paused ? 'resume' : 'pause'),
+  step: () => $('step').click(),
+  fit: () => { framing.fit(); wake(); },
+  names: () => toggle('names'),
+  trails: () => toggle('trails'),
+  putBack: () => bodyEdit.putBack(),
+  deselect: () => selection.set(null),
+});
 // The scene shown, as window.rigidView describes it: { scene: { name, generation, dt }, bodies:
 // [{ id, name, shape, fromMoments }] }.
 let shown = { scene: null, bodies: [] };
@@ -64,13 +94,16 @@ selection.onChange(() => {
   wake();  // (trails, follow; a click on the body list wakes too)
   connection.watch();
 });
-connection.watched = () => (selection.body ? selection.body.id : null);
+// The body pulled, else the one selected: a large scene's pose frames carry their whole state
+// (velocities: the push's damping, the body panel).
+connection.watched = () => (push.active ? push.grab.id : selection.body ? selection.body.id : null);
 
 function onMessage(msg) {
   loop.ensure();
   switch (msg.type) {
     case 'hello':
       hud.hello(msg.read_only, connection.mode);
+      bodyEdit.hello(msg.read_only, connection.mode);
       if (connection.mode === 'playback') timeline.show(msg.read_only);
       break;
     case 'scene': setScene(msg); break;
@@ -96,6 +129,9 @@ function setScene(msg) {
   wrenches.newScene(msg);
   selection.set(null);
   input.newScene();
+  push.newScene(msg);
+  framing.newScene();
+  labels.newScene();
   trails.clear();
   panel.newScene();
   shown = { scene: { name: msg.name, generation: msg.generation, dt: msg.dt },
@@ -129,6 +165,7 @@ function applyState(state) {
   // The wrench arrows drawn depend on the tick (acting), as well as on the poses.
   if (wrenches.list.length && (!bodies.lastState || bodies.lastState.tick !== state.tick)) wake();
   bodies.commit(state);
+  if (framing.stateApplied()) wake();
   trails.add(state.simTime);
   hud.simTime(state.simTime);
   panel.stateApplied();
@@ -136,8 +173,9 @@ function applyState(state) {
 
 function frame(now) {
   applyNewestState();
-  if (push.send()) wake();  // (the pull's line follows the body)
+  if (push.send(bodies.lastState ? bodies.lastState.simTime : 0)) wake();  // (the line follows)
   input.updateHover();
+  labels.update(input.axes.visible ? input.hovered : null);
   wrenches.update();
   panel.follow();
   panel.sample(now);
@@ -159,7 +197,8 @@ function frame(now) {
 }
 
 exposeDebug({ viewport, loop, bodies, connection, push, wrenches, selection, input, trails, drift,
-               hud, panel, timings, shown: () => shown, staticParts: parts });
+               hud, panel, timings, framing, labels, keys, bodyEdit, shown: () => shown,
+               staticParts: parts });
 viewport.resize();
 loop.ensure();
 connection.connect();

@@ -8,6 +8,7 @@ import * as THREE from 'three';
 
 import { ImpostorBodies, impostorKind, impostorShape } from './impostors.js';
 import { colorOf, geometryOf, groupsOf, kManyBodies, lookOf, shapeMatrix } from './shapes.js';
+import { addMarkings } from './stage.js';
 
 const kHidden = new THREE.Matrix4().makeScale(0, 0, 0);  // an instance not yet placed by a state
 const scratch = { m: new THREE.Matrix4(), one: new THREE.Vector3(1, 1, 1), c: new THREE.Color() };
@@ -57,7 +58,8 @@ export class Bodies {
 
   buildInstanced(msg) {
     for (const { b, members } of groupsOf(msg).values()) {
-      const material = new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.1, ...lookOf(b) });
+      const material = addMarkings(
+        new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.1, ...lookOf(b) }));
       const geometry = geometryOf(b, 1);
       geometry.computeBoundingSphere();
       const mesh = new THREE.InstancedMesh(geometry, material, members.length);

@@ -6,7 +6,7 @@ import * as THREE from 'three';
 // parts: the page's parts, as app.js makes them; shown(): the scene shown ({ scene, bodies }).
 export function exposeDebug(parts) {
   const { viewport, loop, bodies, connection, push, wrenches, selection, input, trails, drift, hud,
-          panel, timings, shown, staticParts } = parts;
+          panel, timings, framing, labels, keys, shown, staticParts } = parts;
   const debug = {
     // The pose drawn for a body: position and orientation (w, x, y, z), and the tick it came from.
     renderedPose: (name) => bodies.renderedPose(name),
@@ -41,6 +41,8 @@ export function exposeDebug(parts) {
       if (!b || !b.placed) return null;
       return viewport.screenOf(b.p.clone().add(new THREE.Vector3(...offset)));
     },
+    // Where a point of the world (W) is on the screen, in CSS pixels of the page.
+    screenAt: (p_W) => viewport.screenOf(new THREE.Vector3(...p_W)),
     // Samples the plots received, and the last ones.
     plots: () => ({ drift: panel.driftChart.received, lateness: panel.latenessChart.received,
                     lastDrift: panel.driftChart.last(), lastLateness: panel.latenessChart.last(),
@@ -61,6 +63,10 @@ export function exposeDebug(parts) {
     clearLatencies: () => timings.clearLatencies(),
     frameTimes: () => timings.frameTimeList(),
     renderScale: () => viewport.renderScale,
+    // Zoom to fit (framing.js): frames the placed bodies now; and the sphere it frames.
+    fit: () => framing.fit(),
+    // The names shown on the view (labels.js: with "names" on).
+    labels: () => labels.shown,
     // holdRenderScale(scale): render at that scale until holdRenderScale(null) hands it back.
     holdRenderScale: (scale) => viewport.holdRenderScale(scale),
     // The controller's decisions so far (bench/view): lowered, raised, failed probes, and the
@@ -89,7 +95,7 @@ export function exposeDebug(parts) {
     frames: () => bodies.statesApplied,  // states applied
     lastState: () => bodies.lastState,   // { tick, simTime, bodies, generation }
     pushes: () => push.sent,
-    // The wrench arrows drawn now: [{ body, from (W), force (W) }].
+    // The wrench arrows drawn now: [{ body, from (W), force (W), length (m) }].
     arrows: () => wrenches.drawn,
     // The torque arrows drawn now: [{ body, center (p_WBo), torque (W), axis (unit, W), radius,
     // tip (the cone's base on the arc, W), tipDirection (where the cone points, W) }].
@@ -99,6 +105,11 @@ export function exposeDebug(parts) {
     // Frames drawn, and frames not drawn since nothing changed (redraw.js counts them).
     rendered: () => loop.drawn,
     skipped: () => loop.skipped,
+    // The hovered body's tooltip (labels.js), or null; whether the help is shown (help.js).
+    tooltip: () => (labels.tip.hidden ? null : labels.tip.textContent),
+    helpShown: () => keys.shown,
+    // The pull's last force (W, N) while a body is dragged (push.js), or null.
+    pullForce: () => (push.active ? push.lastForce : null),
     renderMs: () => timings.renderMs,  // total time in renderer.render, and applying states
     stateMs: () => timings.stateMs,
   };

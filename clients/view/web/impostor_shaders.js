@@ -3,6 +3,8 @@
 // (GLSL in JavaScript strings: three.js compiles them, and the page's modules load without a
 // bundler or a fetch of their own.)
 
+import { kOctantShade } from './stage.js';
+
 // Texels per row of the pose texture; a body takes two (p_WBo, placed) and (q_WB as x, y, z, w),
 // side by side in one row because the width is even.
 export const kPoseWidth = 1024;
@@ -15,7 +17,8 @@ export const kPoseWidth = 1024;
 // SwiftShader per vertex (24-60 a body, two texture fetches each), impostors per pixel, which the
 // dynamic resolution lowers (bench/notes/view.md). Shading: Lambert per pixel, the light of the
 // page's hemisphere (sky white, ground 0x404040, intensity 2, about z) plus its sun (1.5 from
-// (3, -2, 5)), times the BRDF colour / pi, as three.js's MeshLambertMaterial computes it.
+// (3, -2, 5)), times the BRDF colour / pi, as three.js's MeshLambertMaterial computes it, the
+// colour darker on alternate octants of U (stage.js: the markings that show a body's spin).
 // The quad lies in the plane through Bo facing the camera, its half-sizes along the screen's axes
 // the shape's support (its half-width along that axis, for any orientation), grown by d / (d - s)
 // for the part of the body nearer the camera than that plane (d: Bo's distance from the camera,
@@ -147,7 +150,10 @@ void main() {
   gl_FragDepth = 0.5 * (projectionMatrix[2][2] * viewZ + projectionMatrix[3][2]) / -viewZ + 0.5;
   vec3 irradiance = 2.0 * mix(vec3(0.0513), vec3(1.0), 0.5 * dot(n, vUp) + 0.5) +
                     1.5 * max(dot(n, vSun), 0.0);
-  gl_FragColor = vec4(vColor * irradiance * 0.3183098861837907, opacity);
+  // The octant markings (stage.js): the hit in U, whose octants are the body's.
+  vec3 mark = p + t * dir;
+  float shade = mark.x * mark.y * mark.z < 0.0 ? ${kOctantShade.toFixed(3)} : 1.0;
+  gl_FragColor = vec4(vColor * shade * irradiance * 0.3183098861837907, opacity);
   #include <colorspace_fragment>
 }
 `;

@@ -42,6 +42,7 @@ export class PointerInput {
     // (Read-only pages and playback select, never push.)
     if (!b || this.connection.readOnly || this.connection.mode === 'playback') return;
     this.push.start(b.body, b.point);
+    this.connection.watch();  // (the pulled body's velocities, in a large scene)
     this.viewport.controls.enabled = false;
     this.viewport.canvas.setPointerCapture(event.pointerId);
   }
@@ -63,7 +64,9 @@ export class PointerInput {
   }
 
   release() {
+    const pulling = this.push.active;
     this.push.release();
+    if (pulling) this.connection.watch();
     this.viewport.controls.enabled = true;
   }
 

@@ -1,10 +1,11 @@
 // The 3D view: the WebGL renderer (remade when multisampling changes), the three.js scene with its
-// grid, axes and lights, the camera and its orbit controls, the render scale (dynamic resolution,
+// stage (stage.js: background, grid, axes, lights), the camera and its orbit controls, the render scale (dynamic resolution,
 // render_scale.js) and the mapping between the page's pixels and the world.
 import * as THREE from 'three';
 import { OrbitControls } from './three/OrbitControls.js';
 
 import { RenderScale } from './render_scale.js';
+import { makeStage } from './stage.js';
 
 export class Viewport {
   // container: the element the canvas goes in; onChange(): the picture changed (draw_loop.js).
@@ -35,7 +36,6 @@ export class Viewport {
 
     const scene = new THREE.Scene();
     this.scene = scene;
-    scene.background = new THREE.Color(0x1d1f24);
     const camera = new THREE.PerspectiveCamera(50, 1, 0.01, 1000);
     this.camera = camera;
     camera.up.set(0, 0, 1);  // rigid's world: z up
@@ -43,15 +43,7 @@ export class Viewport {
     this.controls = new OrbitControls(camera, this.renderer.domElement);
     this.controls.target.set(0, 0, 0);
     this.controls.update();
-    const grid = new THREE.GridHelper(10, 20, 0x666666, 0x3a3a3a);
-    grid.rotation.x = Math.PI / 2;  // the x-y plane
-    scene.add(grid);
-    scene.add(new THREE.AxesHelper(1));
-    // (The impostors' shader has these two lights written in: impostor_shaders.js.)
-    scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 2.0));
-    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
-    sun.position.set(3, -2, 5);
-    scene.add(sun);
+    this.stage = makeStage(scene);  // background, grid, world axes, lights (stage.js)
 
     this.raycaster = new THREE.Raycaster();
     this.pointer = new THREE.Vector2();

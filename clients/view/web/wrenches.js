@@ -2,12 +2,16 @@
 // source, body and key, at most kMaxWrenchesShown, 20 times a second; in playback the recorded
 // ones acting on the state shown), at its application point, along its force,
 // kArrowMetresPerNewton long; and for its torque, a circular arrow about the torque's axis through
-// the body's origin (TorqueArcs, below).
+// the body's origin (TorqueArcs, below). A force arrow is drawn over everything (a push's point is
+// on its body's surface, and its arrow often points into the body) and is never shorter than
+// kMinArrowOfDistance times its distance from the camera (a few percent of the view), so that a
+// small force, or a far one, stays visible.
 import * as THREE from 'three';
 
 import { kMaxWrenchesShown } from './protocol.js';
 
 const kArrowMetresPerNewton = 0.01;
+const kMinArrowOfDistance = 0.06;
 const isVec3 = (a) => Array.isArray(a) && a.length === 3 && a.every(Number.isFinite);
 
 // rigidd's ticks_to_live (server/common/wrench_table.cpp): the ticks a wrench acts for, ttl / dt
@@ -19,10 +23,12 @@ function ticksToLive(ttl, dt) {
 }
 
 export class Wrenches {
-  // scene: where the arrows are drawn; bodies (bodies.js): where the wrenches act.
-  constructor(scene, bodies) {
+  // scene: where the arrows are drawn; bodies (bodies.js): where the wrenches act; camera: how far
+  // an arrow is from the eye (its least length).
+  constructor(scene, bodies, camera = null) {
     this.scene = scene;
     this.bodies = bodies;
+    this.camera = camera;
     this.list = [];       // the last "wrenches" message's, checked
     this.sceneDt = 0;     // s: the scene's step (0: unknown, ttl not applied)
     this.arrows = [];     // ArrowHelpers, reused
@@ -75,14 +81,19 @@ export class Wrenches {
       const k = drawn.length;
       if (!arrows[k]) {
         arrows[k] = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), new THREE.Vector3(), 1, 0xffd54f);
+        for (const part of [arrows[k].line, arrows[k].cone]) {
+          part.material.depthTest = false;
+          part.renderOrder = 10;
+        }
         this.scene.add(arrows[k]);
       }
-      const length = Math.min(Math.max(newtons * kArrowMetresPerNewton, 0.05), 3);
+      const least = Math.max(this.camera ? kMinArrowOfDistance * this.camera.position.distanceTo(from) : 0, 0.05);
+      const length = Math.min(Math.max(newtons * kArrowMetresPerNewton, least), Math.max(3, least));
       arrows[k].position.copy(from);
       arrows[k].setDirection(f.clone().divideScalar(newtons));
       arrows[k].setLength(length, Math.min(0.2 * length, 0.15), Math.min(0.1 * length, 0.08));
       arrows[k].visible = true;
-      drawn.push({ body: w.body, from: from.toArray(), force: f.toArray() });
+      drawn.push({ body: w.body, from: from.toArray(), force: f.toArray(), length });
     }
     for (let k = drawn.length; k < arrows.length; ++k) arrows[k].visible = false;
     this.torqueArcs.hideFrom(twisted.length);
