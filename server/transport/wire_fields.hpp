@@ -13,7 +13,8 @@
 // the LCM adapter's to set and check.
 //
 // Adding a field: add it to the message (messages.hpp), to msgs/rigid.idl and msgs/rigid.lcm under
-// the same name, and to its list here. Adding a message: its list here, then one entry per bus
+// the same name (one IDL allows: its keywords, and names that differ from another only in case,
+// are not), and to its list here. Adding a message: its list here, then one entry per bus
 // (dds_convert.hpp, lcm_convert.hpp) and per codec.
 //
 // Only the bus adapters include this (it is instantiated with their generated types).
@@ -236,7 +237,7 @@ void wrench_fields(IO& io, P& m, W& w) {
 
 template <class IO, class P, class W>
 void state_edit_fields(IO& io, P& m, W& w) {
-  io(m.set, w.set);
+  io(m.set, w.parts);  // (`set` is a keyword of IDL 4)
   io(m.position, w.position);
   io(m.orientation, w.orientation);
   io(m.linear_velocity, w.linear_velocity);
@@ -405,7 +406,7 @@ void fields(IO& io, P& m, W& w, std::size_t /*n*/) {
   io(m.command, w.command);
   io(m.steps, w.steps);
   io(m.rtf, w.rtf);
-  io(m.edit, w.edit);
+  io(m.edit, w.edit_kind);  // (IDL names ignore case: `edit` is the struct Edit)
   state_edit_fields(io, m, w);
   io(m.stamp_ns, w.stamp_ns);
 }

@@ -276,10 +276,12 @@ TEST_P(Rigidctl, SetAndResetABodyAreAnsweredWithTheirTick) {
   EXPECT_TRUE(edited_state(at + 1, 1.0));
   EXPECT_EQ(s.client_->last_state()->state.linear_velocity[3 + 1], 0.0);
 
-  // Refused before sending (exit 2): no such body, a quaternion that is not one, nothing to set.
+  // Refused before sending: a body the scene lacks as rigidd would (exit 1, push's rule); what the
+  // command line alone shows (exit 2): a quaternion that is not one, nothing to set.
   const Completed unknown = s.run(RIGIDCTL_EXE, {"set", "comet", "--position", "0,0,0"});
-  EXPECT_EQ(unknown.exit_code, 2);
-  EXPECT_EQ(unknown.err.rfind("rigidctl: set: no body 'comet' in the scene (bodies: ", 0), 0u)
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_EQ(unknown.err.rfind("rigidctl: set: refused: no body 'comet' in the scene (bodies: ", 0),
+            0u)
       << unknown.err;
   const Completed bad_q = s.run(RIGIDCTL_EXE, {"set", "puck", "--orientation", "1,1,0,0"});
   EXPECT_EQ(bad_q.exit_code, 2);
