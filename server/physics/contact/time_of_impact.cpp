@@ -1,5 +1,7 @@
 #include "physics/contact/time_of_impact.hpp"
 
+#include "physics/contact/pair_gap.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
@@ -221,6 +223,52 @@ Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& 
     s += e.step;
   }
   // Out of iterations while still apart: slow approach by a grazing body; it is not inside.
+  return out;
+}
+
+PairTouch first_touch_pair(const Convex& a, const Trajectory& ta, const Convex& b,
+                           const Trajectory& tb, double s_begin) {
+  constexpr int kMaxIterations = 200;
+  PairTouch out;
+  const double length = std::min(ta.length, tb.length);
+  const double rho_a = a.bounding_radius() - a.radius, rho_b = b.bounding_radius() - b.radius;
+  const bool spheres = (a.kind == Convex::Kind::kPoint || a.kind == Convex::Kind::kSphere) &&
+                       (b.kind == Convex::Kind::kPoint || b.kind == Convex::Kind::kSphere);
+  double s = s_begin, s_apart = -1.0;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    out.iterations = it + 1;
+    const MotionSample ma = ta.at(s), mb = tb.at(s);
+    const PairGap g = pair_gap(a, ma.pose, b, mb.pose);
+    const Vec3 ua = ma.v_W + ma.w_W.cross(g.p_a_W - ma.pose.p_WBo);
+    const Vec3 ub = mb.v_W + mb.w_W.cross(g.p_b_W - mb.pose.p_WBo);
+    const double rate = g.n_W.dot(ua - ub);
+    const double v = (ma.v_W - mb.v_W).norm() + (ta.a_max + tb.a_max) * (length - s) +
+                     ta.w_max * (rho_a + a.radius) + tb.w_max * (rho_b + b.radius);
+    const double tol = touch_tolerance(std::max(ma.pose.p_WBo.norm(), mb.pose.p_WBo.norm()));
+    // The distance between the centres (spheres) or the closest features bends by v^2 / d.
+    const double bend = spheres ? g.distance + a.radius + b.radius : std::max(g.distance, tol);
+    const double c = ta.a_max + tb.a_max + rho_a * (ta.alpha_max + ta.w_max * ta.w_max) +
+                     rho_b * (tb.alpha_max + tb.w_max * tb.w_max) + v * v / std::max(bend, tol);
+    const double step = safe_step(g.distance, rate, c);
+    const bool no_progress = s + step == s || step <= 1e-15 * (1.0 + s);
+    const bool closing = g.distance <= tol && rate < 0.0 && (no_progress || g.distance <= 1e-3 * tol);
+    const bool stalled = no_progress && g.distance <= 1e3 * tol;
+    if (closing || stalled) {
+      out.found = true;
+      out.s = s;
+      out.at = ma;
+      out.at_b = mb;
+      if (g.distance < 0.0 && s_apart >= 0.0) {
+        out.s = s_apart;
+        out.at = ta.at(s_apart);
+        out.at_b = tb.at(s_apart);
+      }
+      return out;
+    }
+    if (g.distance > 0.0) s_apart = s;
+    if (s + step >= length) return out;
+    s += step;
+  }
   return out;
 }
 

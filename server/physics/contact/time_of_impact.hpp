@@ -55,6 +55,21 @@ struct Touch {
 Touch first_touch(const Convex& body, const StaticPart& part, const Trajectory& trajectory,
                   double s_begin, std::uint32_t ignore = 0);
 
+// The first s in [s_begin, min(ta.length, tb.length)] at which bodies a and b, each on its own
+// trajectory over the same interval, touch; found == false when they stay apart. As first_touch,
+// with the pair's gap (pair_gap.hpp) as the one piece: its rate that of the closest points'
+// relative velocity along the normal, its curvature bounded by both bodies' accelerations and
+// turns and by the relative speed squared over the distance between the closest features (a
+// distance to a convex set bends no more than that). `at` holds a's state, `at_b` b's.
+struct PairTouch {
+  bool found = false;
+  double s = 0.0;
+  MotionSample at, at_b;
+  int iterations = 0;
+};
+PairTouch first_touch_pair(const Convex& a, const Trajectory& ta, const Convex& b,
+                           const Trajectory& tb, double s_begin);
+
 // The pieces of a body's gap to a plane (the smooth functions whose minimum it is: a box's 8
 // corners, a capsule's or a cylinder's 2 ends, a sphere's, a point's or an ellipsoid's one), and
 // which of them rest on the plane in state m: within `tol` of it and moving away from it no faster
