@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,9 +61,13 @@ struct BodySpec {
   std::array<bool, 3> freeze_rotation{false, false, false};
 
   // Its collision shape, centred on the centre of mass with its axes along B; none: it collides as
-  // a point. Only a world with static geometry looks at it.
+  // a point (with static parts and with bodies that have a shape; two points never meet).
   std::optional<Shape> shape;
   Surface surface;
+  // Which bodies it meets: two bodies collide when each one's group shares a bit with the other's
+  // mask (the convention of Bullet, ODE and Box2D). By default every body meets every other.
+  std::uint32_t collision_group = 1;
+  std::uint32_t collision_mask = ~std::uint32_t{0};
 };
 
 // Static geometry: it never moves and has no mass.

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -156,6 +157,26 @@ struct World::Impl {
   void contact_stage();
   void after_free(int id);
   void hold(int id);
+
+  // --- world_pairs.cpp ---
+  // Bodies against bodies: the broad phase, this step's islands, and each island's step.
+  void motion_bounds(int id, double& speed, double& accel) const;
+  void broad_phase();
+  void pairs_prepare();
+  void pairs_stage();
+  void wake_group(int group);
+  const detail::Motion& start_of(int id) const;
+  template <class F>
+  decltype(auto) with_moving(int id, F&& f);
+  contact::Pose pose_of(int id) const;
+  int island_contacts(std::span<const int> ids, double margin, detail::IslandContact* out, int cap);
+  void island_step(std::span<const int> ids);
+  bool island_impacts(std::span<const int> ids, double time, double left,
+                      detail::IslandContact* touching, int cap);
+  void island_time_step(std::span<const int> ids, double h, double time,
+                        detail::IslandContact* touching, int cap);
+  void warm_start(const detail::IslandContact& t, double h, std::size_t first);
+  void push_event(const ContactEvent& e);
 
   // --- world_access.cpp ---
   void set_state(int id, const BodyState& s);

@@ -441,6 +441,8 @@ class Loader {
     s.freeze_rotation = axes(b.freeze_rotation());
     s.shape = shape;
     s.surface = load_material(b.material(), node.child("material"), label, scene_.world_surface);
+    if (b.collision().has_group()) s.collision_group = b.collision().group();
+    if (b.collision().has_mask()) s.collision_mask = b.collision().mask();
     return s;
   }
 

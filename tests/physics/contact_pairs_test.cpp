@@ -20,9 +20,8 @@ Convex box(const Vec3& size) {
 }
 
 TEST(ContactPairs, SpheresAreApartByTheirCentresLessTheirRadii) {
-  const PairGap g =
-      pair_gap(sphere(0.1), Pose{Vec3(1, 2, 3), Quat::Identity()}, sphere(0.2),
-               Pose{Vec3(1, 2, 2), Quat::Identity()});
+  const PairGap g = pair_gap(sphere(0.1), Pose{Vec3(1, 2, 3), Quat::Identity()}, sphere(0.2),
+                             Pose{Vec3(1, 2, 2), Quat::Identity()});
   EXPECT_DOUBLE_EQ(g.distance, 0.7);
   EXPECT_EQ(g.n_W, Vec3(0, 0, 1));
   EXPECT_EQ(g.p_a_W, Vec3(1, 2, 2.9));

@@ -20,11 +20,12 @@ std::string_view to_string(ContactEventKind k);
 
 struct ContactEvent {
   ContactEventKind kind = ContactEventKind::kImpact;
-  std::int32_t body = 0;  // body id
-  std::int32_t part = 0;  // static part index (WorldSpec::statics order: planes first, then shapes)
-  double time = 0.0;      // within the step: the world's time at the step's start plus this
+  std::int32_t body = 0;          // body id
+  std::int32_t part = 0;          // static part index (planes first, then shapes), or -1: a body
+  std::int32_t other = -1;        // the other body's id for a contact between bodies, else -1
+  double time = 0.0;              // within the step: the world's time at the step's start plus this
   Vec3 p_W = Vec3::Zero();        // where (the impulse's centre for an impact)
-  Vec3 n_W = Vec3::UnitZ();       // the part's normal there, towards the body
+  Vec3 n_W = Vec3::UnitZ();       // the part's (or the other body's) normal there, towards the body
   Vec3 impulse_W = Vec3::Zero();  // on the body (N s); zero for the transitions
 };
 

@@ -4,12 +4,15 @@
 // neither: its step has no contact stage and costs what it did before contacts existed.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "physics/contact/contact_event.hpp"
 #include "physics/contact/contact_step.hpp"
+#include "physics/contact/island_solver.hpp"
 #include "physics/contact/static_part.hpp"
 #include "physics/contact/support.hpp"
 #include "physics/contact/wake_schedule.hpp"
@@ -28,8 +31,44 @@ struct ContactModel {
   // Per body whether it takes part: dynamic bodies do; kinematic ones move on regardless and
   // nothing they meet can push them.
   std::vector<std::uint8_t> collides;
+  // Bodies against bodies: whether any two can meet, and each body's collision group and mask.
+  bool pairs = false;
+  std::vector<std::uint32_t> group, mask;
 
-  bool enabled() const { return !parts.empty(); }
+  bool enabled() const { return !parts.empty() || pairs; }
+  // Whether bodies a and b may collide: each one's group in the other's mask, and not two points.
+  bool may_collide(int a, int b) const {
+    return (group[a] & mask[b]) != 0 && (group[b] & mask[a]) != 0 &&
+           !(shapes[shape_of[a]].kind == contact::Convex::Kind::kPoint &&
+             shapes[shape_of[b]].kind == contact::Convex::Kind::kPoint);
+  }
+};
+
+// One contact of an island at an instant (world_pairs.cpp): two bodies, or a body and a part, its
+// points, normal (towards a) and gap, and the pair's surface.
+struct IslandContact {
+  int a = -1, b = -1, part = -1;
+  Surface surface;
+  Vec3 n = Vec3::UnitZ();
+  std::array<Vec3, contact::kMaxFeature> p;
+  int np = 0;
+  double gap = 0.0;
+};
+
+// The forces a resting contact carried at its points in the last step, to start the next step's
+// solve from (warm starting: a stack that rests needs the same forces step after step). Keyed by
+// its bodies (or body and part); each point by where it sits on body a (in B) and its force in W.
+struct WarmContact {
+  int a = -1, b = -1, part = -1;
+  int np = 0;
+  std::array<Vec3, contact::kMaxFeature> p_B;
+  std::array<Vec3, contact::kMaxFeature> f_W;
+  auto key() const { return std::tuple(a, b, part); }
+};
+
+// A body's bounding box over the broad phase's look-ahead, in the frame falling with gravity.
+struct SweptBox {
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
 };
 
 // The most events one step keeps (World::contact_events); beyond, they are counted as dropped.
@@ -57,6 +96,29 @@ struct ContactData {
   // Steps in which a body's events came faster than they could be resolved one by one
   // (contact_step's rounds ran out): counted, never hidden.
   std::int64_t capped = 0;
+
+  // --- bodies against bodies (world_pairs.cpp) ---
+  // The broad phase: the bodies' swept boxes, the order sweep and prune keeps them in (by lo.x,
+  // sorted again from the last order), the pairs whose boxes overlap (a < b) and when it runs next
+  // (a change of a body's loads or state runs it at the next step).
+  std::vector<SweptBox> boxes;
+  std::vector<int> order;
+  std::vector<std::pair<int, int>> candidates;
+  std::int64_t next_broad = 0;
+  // This step's pairs that may touch within it, the islands they join bodies into (union-find
+  // roots per body, -1 outside any), and the islands' bodies grouped by root.
+  std::vector<std::pair<int, int>> close;
+  std::vector<int> root;
+  std::vector<int> island_ids;
+  // Scratch for an island's solve.
+  std::vector<contact::IslandBody> ibodies;
+  std::vector<contact::IslandRow> irows;
+  std::vector<int> ilocal;  // per body id its index in the island being solved, -1 otherwise
+  // Last step's contact forces, sorted by key, and this step's being written.
+  std::vector<WarmContact> warm, next_warm;
+  // Sleep: per body the steps it has been calm in a row, and the group it sleeps in (-1: awake).
+  std::vector<std::uint16_t> calm;
+  std::vector<int> sleep_group;
 };
 
 }  // namespace rigid::physics::detail

@@ -6,9 +6,10 @@
 // and the point's relative velocity u = (v_a + w_a x r_a) - (v_b + w_b x r_b) by
 //   K = K_a(r_a, r_a) + K_b(r_b, r_b)   (point_solver.hpp's K for each body)
 // for its own impulse. The laws: n . u >= target with P_n >= 0 and complementarity; Coulomb
-// friction, |P_t| <= mu P_n, sticking (no tangential u) where the disk allows. Projected Gauss-Seidel
-// over the rows (sequential impulses, Catto, GDC 2005), from the impulses the rows carry in (warm
-// start: last step's), until every law holds to rel_tol of the speeds involved or max_iterations.
+// friction, |P_t| <= mu P_n, sticking (no tangential u) where the disk allows. Projected
+// Gauss-Seidel over the rows (sequential impulses, Catto, GDC 2005), from the impulses the rows
+// carry in (warm start: last step's), until every law holds to rel_tol of the speeds involved or
+// max_iterations.
 #pragma once
 
 #include <span>

@@ -191,9 +191,18 @@ int pair_manifold(const Convex& a, const Pose& pa, const Convex& b, const Pose& 
     out[0] = 0.5 * (g.p_a_W + g.p_b_W);
     return 1;
   }
-  for (int i = 0; i < k; ++i)
+  // Corners the clip repeats (two equal faces share theirs) kept once.
+  int m = 0;
+  const double same = 1e-9 * (1.0 + a.bounding_radius() + b.bounding_radius());
+  for (int i = 0; i < k; ++i) {
+    bool repeat = false;
+    for (int j = 0; j < m && !repeat; ++j)
+      repeat = (C[i] - C[j]).norm() <= same;
+    if (!repeat) C[m++] = C[i];
+  }
+  for (int i = 0; i < m; ++i)
     out[i] = C[i].x() * t1 + C[i].y() * t2 + level * n - mid_shift;
-  return k;
+  return m;
 }
 
 }  // namespace rigid::physics::contact

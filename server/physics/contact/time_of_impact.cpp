@@ -1,11 +1,11 @@
 #include "physics/contact/time_of_impact.hpp"
 
-#include "physics/contact/pair_gap.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
+
+#include "physics/contact/pair_gap.hpp"
 
 namespace rigid::physics::contact {
 
@@ -251,7 +251,8 @@ PairTouch first_touch_pair(const Convex& a, const Trajectory& ta, const Convex& 
                      rho_b * (tb.alpha_max + tb.w_max * tb.w_max) + v * v / std::max(bend, tol);
     const double step = safe_step(g.distance, rate, c);
     const bool no_progress = s + step == s || step <= 1e-15 * (1.0 + s);
-    const bool closing = g.distance <= tol && rate < 0.0 && (no_progress || g.distance <= 1e-3 * tol);
+    const bool closing =
+        g.distance <= tol && rate < 0.0 && (no_progress || g.distance <= 1e-3 * tol);
     const bool stalled = no_progress && g.distance <= 1e3 * tol;
     if (closing || stalled) {
       out.found = true;
