@@ -26,7 +26,9 @@ physics::WorldSpec contact_world_spec(const ContactCase& c, const std::string& i
     b.name = "b" + std::to_string(k);
     b.mass = c.mass;
     b.I_B = principal_moments(c).asDiagonal();
-    b.p_WBo = c.start.p_WBo;  // our bodies only touch static parts: copies may overlap
+    // Copies overlap: each one meets the static parts only (no group in another's mask).
+    b.p_WBo = c.start.p_WBo;
+    b.collision_group = 0;
     b.q_WB = c.start.q_WB;
     b.v_WBo = c.start.v_WBo;
     b.w_WB = c.start.w_WB;

@@ -102,16 +102,18 @@ class BodyPath final : public contact::Trajectory {
     }
   }
 
-  contact::MotionSample at(double s) const override { return sample(motion_at(s)); }
+  contact::MotionSample at(double s) const override { return sample(motion_at(s), rot_, q_BP_); }
 
-  contact::MotionSample sample(const Motion& b) const {
+  // A body's state b as the contact stage sees it, from its own rotational parameters.
+  static contact::MotionSample sample(const Motion& b, const Rot& rot, const Quat& q_BP) {
     contact::MotionSample m;
     m.pose.p_WBo = b.x;
     m.v_W = b.v;
     if constexpr (Traits::kTurns) {
-      m.pose.q_WB = b.q * q_BP_.conjugate();
-      m.w_W = rotate(b.q, rot_.omega(b.spin));
+      m.pose.q_WB = b.q * q_BP.conjugate();
+      m.w_W = rotate(b.q, rot.omega(b.spin));
     } else {
+      (void)rot, (void)q_BP;
       m.pose.q_WB = b.q;
     }
     return m;
@@ -152,7 +154,10 @@ class WorldBody final : public contact::MovingBody {
 
   WorldBody(Group<K> g, int i) : g_(g), i_(i) {}
 
-  contact::MotionSample state() const override { return path_.sample(g_.motion(i_)); }
+  // Not through path_: its parameters are those of the last plan(), none before the first.
+  contact::MotionSample state() const override {
+    return BodyPath<K>::sample(g_.motion(i_), rot(), q_BP());
+  }
 
   const contact::Trajectory& plan(double length, const contact::SupportLoad& support) override {
     Loads loads = g_.entries.load_value(i_);

@@ -61,6 +61,38 @@ void check_shape(const Shape& s, int body, const std::string& who) {
   if (!sized) throw SpecError(body, "shape", who + ": shape sizes must be finite and > 0");
 }
 
+// Whether the bodies' collision filters let any two of them meet (a scene whose filters keep
+// every body apart, such as copies that each meet only the parts, has no pair stage). Checked over
+// the distinct (group, mask) filters, which are few; beyond 64 of them, assumed so.
+bool filters_admit_a_pair(const std::vector<BodySpec>& bodies) {
+  struct Filter {
+    std::uint32_t group, mask;
+    int count;
+  };
+  std::vector<Filter> filters;
+  for (const BodySpec& b : bodies) {
+    auto it = std::find_if(filters.begin(), filters.end(), [&](const Filter& f) {
+      return f.group == b.collision_group && f.mask == b.collision_mask;
+    });
+    if (it != filters.end()) {
+      ++it->count;
+    } else if (filters.size() == 64) {
+      return true;
+    } else {
+      filters.push_back({b.collision_group, b.collision_mask, 1});
+    }
+  }
+  for (std::size_t i = 0; i < filters.size(); ++i) {
+    for (std::size_t j = i; j < filters.size(); ++j) {
+      const Filter& a = filters[i];
+      const Filter& b = filters[j];
+      if ((a.group & b.mask) != 0 && (b.group & a.mask) != 0 && (i != j || a.count >= 2))
+        return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 // --- building ---
@@ -75,7 +107,8 @@ void World::Impl::build_contacts(const WorldSpec& spec, detail::Model& model) {
     collidable += b.kinematic ? 0 : 1;
     shaped += b.shape ? 1 : 0;
   }
-  const bool pairs = collidable >= 1 && spec.bodies.size() >= 2 && shaped >= 1;
+  const bool pairs = collidable >= 1 && spec.bodies.size() >= 2 && shaped >= 1 &&
+                     filters_admit_a_pair(spec.bodies);
   if (spec.planes.empty() && spec.statics.empty() && !pairs) return;
   c.pairs = pairs;
   std::vector<std::string> names;
@@ -186,6 +219,7 @@ void World::Impl::reset_contacts() {
   c.start.reserve(n);
   c.events.clear();
   c.events.reserve(detail::kMaxContactEvents);
+  c.scratch.resize(detail::kMaxContactEvents);
   c.dropped = 0;
   c.capped = 0;
   c.boxes.assign(n, detail::SweptBox{});
@@ -227,6 +261,7 @@ void World::Impl::reserve_contacts() {
   c.active.reserve(n);
   c.start.reserve(n);
   c.events.reserve(detail::kMaxContactEvents);
+  c.scratch.resize(detail::kMaxContactEvents);
   if (model().contact.pairs) {
     c.candidates.reserve(16 * n);
     c.close.reserve(16 * n);
@@ -371,11 +406,10 @@ void World::Impl::contact_stage() {
       }
       if constexpr (GroupTraits<G::kKind>::kTurns) g.entries.plan_ok[i] = 0;
       const std::size_t used = c.events.size();
-      c.events.resize(detail::kMaxContactEvents);  // within the reserved capacity
-      contact::EventSink sink(c.events.data() + used,
-                              detail::kMaxContactEvents - static_cast<int>(used));
+      contact::EventSink sink(c.scratch.data(), detail::kMaxContactEvents - static_cast<int>(used));
       const contact::ContactStepResult r = contact::contact_step(body, cb, cm.parts, dt, st, sink);
-      c.events.resize(used + static_cast<std::size_t>(sink.size()));
+      // Within the reserved capacity.
+      c.events.insert(c.events.end(), c.scratch.begin(), c.scratch.begin() + sink.size());
       for (std::size_t e = used; e < c.events.size(); ++e)
         c.events[e].time += t0;
       c.dropped += sink.dropped();

@@ -546,10 +546,11 @@ void World::Impl::island_time_step(std::span<const int> ids, double h, double ti
     warm_start(t, h, c.irows.size() - static_cast<std::size_t>(t.np));
   }
   // From cold (no contact carried a force in the last step) the solve needs many sweeps to carry a
-  // stack's weight down to its base; warm started, a few.
-  bool cold = false;
+  // stack's weight down to its base; warm started, a few (a contact that joins a warm island, or
+  // one that carries nothing, such as a pile's many grazing ones, starts from the others' forces).
+  bool cold = true;
   for (const contact::IslandRow& r : c.irows)
-    cold = cold || r.pn == 0.0;
+    cold = cold && r.pn == 0.0;
   contact::solve_island(c.ibodies, c.irows, cold ? 5000 : 500, 1e-7);
   // The forces for the next step's warm start.
   {

@@ -186,5 +186,34 @@ TEST(WorldPairs, StatesAreBitIdenticalForAnyThreadCount) {
   }
 }
 
+// A tumbling body grazing another (a point on a falling sphere's surface, moving apart) takes no
+// impulse: its spin, energy and angular momentum are what a free rotor keeps, though the contact
+// stage reads and writes its state while the pair is close.
+TEST(WorldPairs, ATumblingBodyThatGrazesAnotherKeepsItsSpin) {
+  WorldSpec spec;
+  spec.dt = 5e-3;
+  BodySpec ball_spec = ball("ball", 0.1, 1.0, Vec3(0.1, 0, 0), Vec3::Zero(), Surface{0.0, 0.5});
+  spec.bodies.push_back(ball_spec);
+  BodySpec spinner;
+  spinner.name = "spinner";
+  spinner.mass = 2.0;
+  spinner.I_B = Vec3(1, 2, 3).asDiagonal();
+  spinner.w_WB = Vec3(0.1, 4, 0.1);
+  spinner.use_gravity = false;
+  spec.bodies.push_back(spinner);
+  World w(spec);
+  const Vec3 L0 = spinner.I_B * spinner.w_WB;
+  const double ke0 = 0.5 * spinner.w_WB.dot(L0);
+  for (int i = 0; i < 100; ++i) {
+    w.step();
+    const BodyState s = w.state(1);
+    const Mat3 R = s.q_WB.toRotationMatrix();
+    const Vec3 L = R * spinner.I_B * R.transpose() * s.w_WB;
+    ASSERT_NEAR((L - L0).norm(), 0.0, 1e-9 * L0.norm()) << "step " << i;
+    ASSERT_NEAR(0.5 * s.w_WB.dot(L), ke0, 1e-9 * ke0) << "step " << i;
+    ASSERT_EQ(s.p_WBo, Vec3::Zero());
+  }
+}
+
 }  // namespace
 }  // namespace rigid::physics

@@ -92,6 +92,9 @@ struct ContactData {
   std::vector<int> next_watched;
   // The events of the last step() call, and how many did not fit in its buffer.
   std::vector<ContactEvent> events;
+  // Where one body's contact step writes its events before they join `events` (kMaxContactEvents
+  // long, sized once: growing `events` to its capacity for each body would clear it each time).
+  std::vector<ContactEvent> scratch;
   std::int64_t dropped = 0;
   // Steps in which a body's events came faster than they could be resolved one by one
   // (contact_step's rounds ran out): counted, never hidden.
