@@ -228,6 +228,7 @@ void World::Impl::reset_contacts() {
   c.candidates.clear();
   c.candidates.reserve(cm.pairs ? 16 * static_cast<std::size_t>(n) : 0);
   c.next_broad = 0;
+  c.look_ahead = detail::kMinLookAhead;
   c.close.clear();
   c.close.reserve(cm.pairs ? 16 * static_cast<std::size_t>(n) : 0);
   c.root.assign(n, -1);
@@ -288,7 +289,10 @@ void World::Impl::contact_wake(int id) {
   // Looked at in the next step whatever it does (a supported body is watched already), and the
   // broad phase's bounds, which its loads or state gave, made again.
   c.schedule.at(id, data.steps);
-  if (cm.pairs) c.next_broad = data.steps;
+  if (cm.pairs) {
+    c.next_broad = data.steps;
+    c.look_ahead = detail::kMinLookAhead;
+  }
 }
 
 void World::Impl::contact_state_set(int id) {

@@ -2,11 +2,12 @@
 // may touch within a step, and each island's step.
 //
 // Broad phase: sweep and prune over swept boxes (each body's bounding sphere grown by how far it
-// can move over a look-ahead of kLookAhead steps, in the frame that falls with gravity, so that
-// bodies falling together do not look as if they closed in), its order kept from one run to the
-// next (insertion sort: O(n) while bodies keep their order). It runs every kLookAhead steps, or at
-// the next step after a body's loads or state change; a world whose bodies stay apart pays one run
-// per kLookAhead steps.
+// can move over a look-ahead of some steps, in the frame that falls with gravity, so that bodies
+// falling together do not look as if they closed in), its order kept from one run to the next
+// (insertion sort: O(n) while bodies keep their order). It runs again when its look-ahead is over,
+// or at the next step after a body's loads or state change. The look-ahead is kMinLookAhead steps,
+// doubled after each run that finds no pair up to kMaxLookAhead: a world whose bodies stay apart
+// pays one run per kMaxLookAhead steps.
 //
 // Each step, the broad phase's pairs that may touch within the step (their bounding spheres' gap
 // within the relative motion's reach) join their bodies into islands. An island is stepped as one:
@@ -26,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include "physics/contact/pair_gap.hpp"
 #include "physics/contact/reach.hpp"
@@ -48,8 +50,6 @@ double feature_tol(const contact::Convex& a, const contact::Convex& b) {
   return 0.02 * std::min(a.bounding_radius(), b.bounding_radius()) + 1e-9;
 }
 
-// The broad phase looks this many steps ahead.
-constexpr int kLookAhead = 16;
 // An island's bodies slower than this (m/s, and rad/s times their size) for kSleepSteps steps in a
 // row sleep.
 constexpr double kSleepSpeed = 1e-3;
@@ -86,7 +86,7 @@ void World::Impl::motion_bounds(int id, double& speed, double& accel) const {
 void World::Impl::broad_phase() {
   const detail::ContactModel& cm = model().contact;
   detail::ContactData& c = data.contact;
-  const double T = kLookAhead * model().dt;
+  const double T = c.look_ahead * model().dt;
   const int n = body_count();
   for (int id = 0; id < n; ++id) {
     double v, a;
@@ -128,7 +128,9 @@ void World::Impl::broad_phase() {
     }
   }
   std::sort(c.candidates.begin(), c.candidates.end());
-  c.next_broad = data.steps + kLookAhead;
+  c.next_broad = data.steps + c.look_ahead;
+  c.look_ahead = c.candidates.empty() ? std::min(2 * c.look_ahead, detail::kMaxLookAhead)
+                                      : detail::kMinLookAhead;
 }
 
 void World::Impl::pairs_prepare() {
@@ -205,8 +207,9 @@ void World::Impl::pairs_stage() {
     return;
   }
   // Bodies by island (root), each island's bodies ascending; islands by their smallest body.
-  std::stable_sort(c.island_ids.begin(), c.island_ids.end(),
-                   [&](int x, int y) { return c.root[x] < c.root[y]; });
+  // (std::sort on a total order: std::stable_sort would take a buffer from the heap.)
+  std::sort(c.island_ids.begin(), c.island_ids.end(),
+            [&](int x, int y) { return c.root[x] != c.root[y] ? c.root[x] < c.root[y] : x < y; });
   for (std::size_t k = 0; k < c.island_ids.size();) {
     std::size_t e = k + 1;
     while (e < c.island_ids.size() && c.root[c.island_ids[e]] == c.root[c.island_ids[k]])
@@ -513,10 +516,14 @@ void World::Impl::island_time_step(std::span<const int> ids, double h, double ti
       if (t.b < 0) return -std::numeric_limits<double>::infinity();
       return std::min(up.dot(pose_of(t.a).p_WBo), up.dot(pose_of(t.b).p_WBo));
     };
-    std::stable_sort(touching, touching + nt,
-                     [&](const detail::IslandContact& x, const detail::IslandContact& y) {
-                       return height(x) < height(y);
-                     });
+    // A total order (ties by the bodies and part: one contact each), for std::sort, which takes
+    // no buffer from the heap as std::stable_sort would.
+    std::sort(touching, touching + nt,
+              [&](const detail::IslandContact& x, const detail::IslandContact& y) {
+                const double hx = height(x), hy = height(y);
+                if (hx != hy) return hx < hy;
+                return std::tie(x.a, x.b, x.part) < std::tie(y.a, y.b, y.part);
+              });
   }
   c.irows.clear();
   for (int k = 0; k < nt; ++k) {

@@ -63,6 +63,25 @@ std::vector<ContactEvent> run(World& w, double t_end) {
 class WorldContact : public ::testing::TestWithParam<double> {};
 INSTANTIATE_TEST_SUITE_P(Dt, WorldContact, ::testing::Values(1e-3, 1.0 / 240, 1.0 / 60));
 
+// A body that neither moves nor accelerates never reaches a part: it stays where it is, and the
+// contact stage's schedule of when to look at it again must still move on (a zero speed and
+// acceleration once made the earliest-contact bound, and the step, loop forever).
+TEST_P(WorldContact, ABodyAtRestWithoutGravityAboveAPlaneStaysAndTheStepReturns) {
+  WorldSpec spec = ground_world(GetParam(), 0.0, 0.5);
+  spec.g_W = Vec3::Zero();
+  spec.bodies.push_back(sphere(0.1, 1.0, Vec3(0, 0, 1.0)));
+  BodySpec floating = sphere(0.1, 1.0, Vec3(1, 0, 0.1 + 1e-9));
+  floating.name = "floating";
+  spec.bodies.push_back(floating);
+  World w(spec);
+  const auto n = static_cast<std::int64_t>(std::llround(1.0 / GetParam()));
+  for (std::int64_t i = 0; i < n; ++i)
+    w.step();
+  EXPECT_EQ(w.state(0).p_WBo, Vec3(0, 0, 1.0));
+  EXPECT_EQ(w.state(1).p_WBo, Vec3(1, 0, 0.1 + 1e-9));
+  EXPECT_TRUE(w.contact_events().empty());
+}
+
 TEST_P(WorldContact, AnElasticSphereBouncesForTenSecondsAtTheClosedFormTimes) {
   const double dt = GetParam(), r = 0.1, h0 = 1.0;
   WorldSpec spec = ground_world(dt, 1.0, 0.5);
@@ -244,7 +263,11 @@ TEST_P(WorldContact, CapsulesAndCylindersLandingOnTheirRimsSettleWithoutEnergyFr
     EXPECT_TRUE(settled == World::Support::kResting || settled == World::Support::kRolling)
         << static_cast<int>(kind);
     if (settled == World::Support::kRolling) {
-      EXPECT_NEAR(w.total_energy(), e_settled, 1e-9) << static_cast<int>(kind);
+      // A roll keeps its energy but for the round-off a line contact re-forming costs: a point
+      // found inside the plane by more than round-off is put back on it, its speed into the plane
+      // taken away (~5e-9 J here, every few hundred steps).
+      EXPECT_LE(w.total_energy(), e_settled) << static_cast<int>(kind);
+      EXPECT_NEAR(w.total_energy(), e_settled, 1e-7 * e_settled) << static_cast<int>(kind);
       EXPECT_GT(w.kinetic_energy(0), 0.0);
     }
     EXPECT_GE(lowest, -1e-9) << static_cast<int>(kind);

@@ -71,6 +71,10 @@ struct SweptBox {
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
 };
 
+// The broad phase's shortest and longest look-ahead, in steps (world_pairs.cpp).
+inline constexpr int kMinLookAhead = 16;
+inline constexpr int kMaxLookAhead = 1024;
+
 // The most events one step keeps (World::contact_events); beyond, they are counted as dropped.
 inline constexpr int kMaxContactEvents = 4096;
 
@@ -108,6 +112,10 @@ struct ContactData {
   std::vector<int> order;
   std::vector<std::pair<int, int>> candidates;
   std::int64_t next_broad = 0;
+  // The steps the next run looks ahead over: doubled after each run that found no pair (bodies
+  // far apart pay for the broad phase ever more rarely), back to the shortest once one does, or a
+  // body's loads or state change.
+  int look_ahead = kMinLookAhead;
   // This step's pairs that may touch within it, the islands they join bodies into (union-find
   // roots per body, -1 outside any), and the islands' bodies grouped by root.
   std::vector<std::pair<int, int>> close;
