@@ -210,9 +210,9 @@ void World::Impl::reset_contacts() {
   c.held_linear.assign(n, -1);
   c.schedule.reset(n);
   c.watched.clear();
-  c.watched.reserve(n);
+  c.watched.reserve(2 * n);  // swapped with next_watched each step
   c.next_watched.clear();
-  c.next_watched.reserve(n);
+  c.next_watched.reserve(2 * n);  // the due bodies, then the islands' (each at most n)
   c.active.clear();
   c.active.reserve(n);
   c.start.clear();
@@ -257,8 +257,8 @@ void World::Impl::reserve_contacts() {
   const std::size_t n = static_cast<std::size_t>(body_count());
   if (!model().contact.enabled()) return;
   c.schedule.reserve();
-  c.watched.reserve(n);
-  c.next_watched.reserve(n);
+  c.watched.reserve(2 * n);       // swapped with next_watched each step
+  c.next_watched.reserve(2 * n);  // the due bodies, then the islands' (each at most n)
   c.active.reserve(n);
   c.start.reserve(n);
   c.events.reserve(detail::kMaxContactEvents);
@@ -336,11 +336,18 @@ void World::Impl::contact_prepare() {
       c.schedule.at(id, data.steps + static_cast<std::int64_t>(std::floor(t / dt)));
     }
   });
-  if (cm.pairs) pairs_prepare();
-  // active = watched + due (+ the islands' bodies), ascending and without repeats.
+  // Ascending and without repeats (a body can be due twice); then the islands' bodies, each once,
+  // join them: at most 2 n, within the reserve.
   std::sort(c.next_watched.begin(), c.next_watched.end());
   c.next_watched.erase(std::unique(c.next_watched.begin(), c.next_watched.end()),
                        c.next_watched.end());
+  if (cm.pairs) {
+    pairs_prepare();
+    std::sort(c.next_watched.begin(), c.next_watched.end());
+    c.next_watched.erase(std::unique(c.next_watched.begin(), c.next_watched.end()),
+                         c.next_watched.end());
+  }
+  // active = watched + due (+ the islands' bodies), ascending and without repeats.
   c.active.clear();
   std::set_union(c.watched.begin(), c.watched.end(), c.next_watched.begin(), c.next_watched.end(),
                  std::back_inserter(c.active));  // within the capacity

@@ -155,21 +155,20 @@ void World::Impl::pairs_prepare() {
     c.close.emplace_back(a, b);
   }
   if (c.close.empty()) return;
+  // Each body of a close pair once (at most every body: within island_ids' reserve).
+  c.island_ids.clear();
   for (const auto& [a, b] : c.close) {
-    c.root[a] = c.root[a] < 0 ? a : c.root[a];
-    c.root[b] = c.root[b] < 0 ? b : c.root[b];
+    for (const int id : {a, b}) {
+      if (c.root[id] >= 0) continue;
+      c.root[id] = id;
+      c.island_ids.push_back(id);
+    }
   }
   for (const auto& [a, b] : c.close) {
     const int ra = find(c.root, a), rb = find(c.root, b);
     if (ra != rb) c.root[std::max(ra, rb)] = std::min(ra, rb);
   }
-  c.island_ids.clear();
-  for (const auto& [a, b] : c.close) {
-    c.island_ids.push_back(a);
-    c.island_ids.push_back(b);
-  }
   std::sort(c.island_ids.begin(), c.island_ids.end());
-  c.island_ids.erase(std::unique(c.island_ids.begin(), c.island_ids.end()), c.island_ids.end());
   for (const int id : c.island_ids)
     c.root[id] = find(c.root, id);
   // A sleeping body an island reaches wakes, with the group it sleeps in.
