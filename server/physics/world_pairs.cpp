@@ -317,7 +317,9 @@ void World::Impl::island_step(std::span<const int> ids) {
     const double h = dt - t;
     double first = h;
     // The first touch of two of its bodies, or of one with a part.
-    for (const auto& [a, b] : c.close) {
+    for (const auto& pair : c.close) {
+      // Named, not bound: clang 14 does not let a lambda capture a structured binding (P1091R3).
+      const int a = pair.first, b = pair.second;
       if (c.ilocal[a] < 0 || c.ilocal[b] < 0) continue;
       with_moving(a, [&](contact::MovingBody& A) {
         with_moving(b, [&](contact::MovingBody& B) {
