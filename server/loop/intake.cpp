@@ -62,6 +62,12 @@ std::uint64_t owner_of(const transport::Origin& origin) {
   return origin.authenticated ? hash_name(origin.identity) : 0;
 }
 
+// The key a command's session is known by: the writer's session and owner, apart per bus.
+std::uint64_t session_key(rigid::Bus bus, const transport::Origin& origin) {
+  return util::mix64(origin.session ^ owner_of(origin) ^
+                     (bus == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+}
+
 Intake::Intake(rigid::Bus bus, const CommandValidator& validator, const IntakePolicy& policy,
                BoundedQueue<Command>& queue, Doorbell& doorbell, RejectCounters& rejects,
                ReplySink& replies)
@@ -140,8 +146,7 @@ void Intake::on_wrench(const rigid::WrenchCommand& wrench, const transport::Orig
   command.bus = bus_;
   command.sender = sender;
   checked.value.owner = owner_of(origin);
-  command.session_key = util::mix64(origin.session ^ checked.value.owner ^
-                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.session_key = session_key(bus_, origin);
   command.what = checked.value;
   if (!enqueue(command)) {
     char detail[200];
@@ -150,6 +155,36 @@ void Intake::on_wrench(const rigid::WrenchCommand& wrench, const transport::Orig
                   sender.name, static_cast<long long>(wrench.seq));
     refuse_wrench(wrench, sender, RejectReason::kQueueFull, detail);
   }
+}
+
+// A control or an edit: allowed only with controls on and, with security, from an authenticated
+// control/IDENTITY writer; then within the sender's share of the command rate. A refusal is
+// counted and answered (at most at the sender's reply rate).
+bool Intake::admit_privileged(const Sender& sender, const transport::Origin& origin,
+                              std::string_view what, std::int64_t source, std::int64_t seq,
+                              Reply& reply) {
+  const auto who = [&] {
+    return std::string(what) + " from " + std::string(sender.name) + " source " +
+           std::to_string(source) + " seq " + std::to_string(seq) + ": ";
+  };
+  RejectReason reason;
+  std::string detail;
+  if (!policy_.controls || (policy_.secure && !origin.authenticated)) {
+    reason = RejectReason::kNotPermitted;
+    detail = who() + (policy_.controls ? "not from an authenticated control/IDENTITY writer"
+                                       : "controls are off (rigidd --controls off)");
+    reply.note = ReplyNote::kNotPermitted;
+  } else if (!rates_.take(sender.key, monotonic_ns())) {
+    reason = RejectReason::kRateLimited;
+    detail = who() + "above the sender's share of the command rate";
+    reply.note = ReplyNote::kRateLimited;
+  } else {
+    return true;
+  }
+  rejects_.record(reason, detail, &sender);
+  reply.outcome = rigid::Outcome::kNotAllowed;
+  if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
+  return false;
 }
 
 void Intake::on_control(const rigid::ControlCommand& control, const transport::Origin& origin) {
@@ -162,28 +197,7 @@ void Intake::on_control(const rigid::ControlCommand& control, const transport::O
               0,
               ReplyNote::kNone,
               0};
-  const auto who = [&] {
-    return "control from " + std::string(sender.name) + " source " +
-           std::to_string(control.source) + " seq " + std::to_string(control.seq) + ": ";
-  };
-  if (!policy_.controls || (policy_.secure && !origin.authenticated)) {
-    rejects_.record(RejectReason::kNotPermitted,
-                    who() + (policy_.controls ? "not from an authenticated control/IDENTITY writer"
-                                              : "controls are off (rigidd --controls off)"),
-                    &sender);
-    reply.outcome = rigid::Outcome::kNotAllowed;
-    reply.note = ReplyNote::kNotPermitted;
-    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
-    return;
-  }
-  if (!rates_.take(sender.key, monotonic_ns())) {
-    rejects_.record(RejectReason::kRateLimited,
-                    who() + "above the sender's share of the command rate", &sender);
-    reply.outcome = rigid::Outcome::kNotAllowed;
-    reply.note = ReplyNote::kRateLimited;
-    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
-    return;
-  }
+  if (!admit_privileged(sender, origin, "control", control.source, control.seq, reply)) return;
   ReplyNote note = ReplyNote::kNone;
   Checked<Control> checked = validator_.check(control, &note);
   reply.note = note;
@@ -195,8 +209,7 @@ void Intake::on_control(const rigid::ControlCommand& control, const transport::O
   Command command;
   command.bus = bus_;
   command.sender = sender;
-  command.session_key = util::mix64(origin.session ^ owner_of(origin) ^
-                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.session_key = session_key(bus_, origin);
   command.what = checked.value;
   if (!enqueue(command)) {
     rejects_.recordf(RejectReason::kQueueFull, &sender,
@@ -221,30 +234,9 @@ void Intake::on_edit(const rigid::EditCommand& edit, const transport::Origin& or
   Reply reply{bus_, edit.source,      edit.seq, rigid::kReplyToEdit, rigid::Outcome::kInvalid,
               0,    ReplyNote::kNone, 0};
   reply.edit = edit.kind;
-  const auto who = [&] {
-    return "edit from " + std::string(sender.name) + " source " + std::to_string(edit.source) +
-           " seq " + std::to_string(edit.seq) + ": ";
-  };
   // Edits are allowed where controls are: the same switch and, with security, the same
   // control/IDENTITY partition.
-  if (!policy_.controls || (policy_.secure && !origin.authenticated)) {
-    rejects_.record(RejectReason::kNotPermitted,
-                    who() + (policy_.controls ? "not from an authenticated control/IDENTITY writer"
-                                              : "controls are off (rigidd --controls off)"),
-                    &sender);
-    reply.outcome = rigid::Outcome::kNotAllowed;
-    reply.note = ReplyNote::kNotPermitted;
-    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
-    return;
-  }
-  if (!rates_.take(sender.key, monotonic_ns())) {
-    rejects_.record(RejectReason::kRateLimited,
-                    who() + "above the sender's share of the command rate", &sender);
-    reply.outcome = rigid::Outcome::kNotAllowed;
-    reply.note = ReplyNote::kRateLimited;
-    if (rejects_.reply_allowed(sender, monotonic_ns())) replies_.reply(reply);
-    return;
-  }
+  if (!admit_privileged(sender, origin, "edit", edit.source, edit.seq, reply)) return;
   const Checked<Edit> checked = validator_.check(edit);
   if (!checked.ok) {
     rejects_.record(checked.reason, checked.detail, &sender);
@@ -259,8 +251,7 @@ void Intake::on_edit(const rigid::EditCommand& edit, const transport::Origin& or
   Command command;
   command.bus = bus_;
   command.sender = sender;
-  command.session_key = util::mix64(origin.session ^ owner_of(origin) ^
-                                    (bus_ == rigid::Bus::kDds ? 0x5ddULL << 48 : 0x1c3ULL << 48));
+  command.session_key = session_key(bus_, origin);
   command.what = checked.value;
   if (!enqueue(command)) {
     rejects_.recordf(RejectReason::kQueueFull, &sender,

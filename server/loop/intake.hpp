@@ -9,6 +9,9 @@
 // such.
 #pragma once
 
+#include <cstdint>
+#include <string_view>
+
 #include "loop/bounded_queue.hpp"
 #include "loop/command.hpp"
 #include "loop/command_validation.hpp"
@@ -44,6 +47,8 @@ class Intake final : public transport::Receiver {
 
  private:
   bool enqueue(Command& command);
+  bool admit_privileged(const Sender& sender, const transport::Origin& origin,
+                        std::string_view what, std::int64_t source, std::int64_t seq, Reply& reply);
   void refuse_wrench(const rigid::WrenchCommand& wrench, const Sender& sender, RejectReason reason,
                      const std::string& detail);
 
